@@ -1,0 +1,35 @@
+"""The exception types teamenv raises; messages name the agent, field and value."""
+
+from __future__ import annotations
+
+
+class TeamEnvError(Exception):
+    """Base class of every error teamenv raises on purpose."""
+
+
+class ConfigError(TeamEnvError, ValueError):
+    """A config value or key is not valid (unknown key, out of range, wrong type)."""
+
+
+class ActionError(TeamEnvError, ValueError):
+    """An action is malformed: unknown or missing agent, wrong shape, NaN/inf, out of range."""
+
+
+class MessageError(ActionError):
+    """A ``say`` message breaks the channel's rules (too long, illegal character)."""
+
+
+class TeamLoadError(TeamEnvError, LookupError):
+    """A team spec does not name a registered team or an importable ``module:Class``."""
+
+
+class MissingExtraError(TeamEnvError, ImportError):
+    """An optional dependency is missing; the message names the extra to install."""
+
+    def __init__(self, extra: str, package: str, feature: str) -> None:
+        super().__init__(
+            f"{feature} needs the '{extra}' extra ({package} is not installed): "
+            f"pip install 'teamenv[{extra}]'"
+        )
+        self.extra = extra
+        self.package = package

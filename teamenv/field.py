@@ -1,0 +1,78 @@
+"""Field geometry and the league's field presets (metres; the centre spot is the origin)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+
+from teamenv.errors import ConfigError
+
+
+@dataclass(frozen=True)
+class FieldSpec:
+    """Dimensions of one pitch, in metres.
+
+    x runs along the length (goal to goal), y across; the left team's goal is at x = -length/2.
+    """
+
+    name: str
+    length: float
+    width: float
+    goal_width: float
+    goal_depth: float
+    penalty_length: float
+    penalty_width: float
+    center_circle_radius: float
+    goal_post_radius: float
+    default_team_size: int
+
+    @property
+    def half_length(self) -> float:
+        return self.length / 2.0
+
+    @property
+    def half_width(self) -> float:
+        return self.width / 2.0
+
+    @property
+    def half_goal_width(self) -> float:
+        return self.goal_width / 2.0
+
+    def contains(self, x: float, y: float, margin: float = 0.0) -> bool:
+        """True if (x, y) lies on the pitch, lines included, grown by ``margin`` metres."""
+        return abs(x) <= self.half_length + margin and abs(y) <= self.half_width + margin
+
+
+# simspark: the classic 3D league (rcssserver3d naosoccersim.rb defaults).
+# mj7v7: RCSSServerMJ's default "ssim" rules. fifa: a full-size pitch.
+FIELD_PRESETS: dict[str, FieldSpec] = {
+    "simspark": FieldSpec(
+        name="simspark", length=30.0, width=20.0, goal_width=2.1, goal_depth=0.6,
+        penalty_length=1.8, penalty_width=3.9, center_circle_radius=2.0,
+        goal_post_radius=0.05, default_team_size=11,
+    ),
+    "mj7v7": FieldSpec(
+        name="mj7v7", length=55.0, width=36.0, goal_width=3.66, goal_depth=1.0,
+        penalty_length=8.0, penalty_width=20.0, center_circle_radius=4.5,
+        goal_post_radius=0.06, default_team_size=7,
+    ),
+    "fifa": FieldSpec(
+        name="fifa", length=105.0, width=68.0, goal_width=7.32, goal_depth=2.0,
+        penalty_length=16.5, penalty_width=40.32, center_circle_radius=9.15,
+        goal_post_radius=0.06, default_team_size=11,
+    ),
+}
+
+
+def field_preset(name: str | FieldSpec) -> FieldSpec:
+    """Return the preset called ``name`` (or ``name`` itself if it already is a FieldSpec)."""
+    if isinstance(name, FieldSpec):
+        return name
+    try:
+        return FIELD_PRESETS[name]
+    except KeyError:
+        raise ConfigError(
+            f"field: unknown preset {name!r}; choose one of {sorted(FIELD_PRESETS)}"
+        ) from None
+
+
+FIELD_SPEC_KEYS = tuple(f.name for f in fields(FieldSpec))

@@ -1,0 +1,207 @@
+"""The pymunk world: player discs, the ball, goal posts and nets, and the boundary walls."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pymunk
+
+from teamenv.config import PhysicsConfig
+from teamenv.field import FieldSpec
+
+BALL, PLAYER, POST, WALL = 1, 2, 3, 4
+
+
+class World:
+    """Bodies of one match in world coordinates (metres, radians; origin at the centre spot).
+
+    Players are velocity-controlled discs: each cycle the locomotion model says how far each
+    body moves, and pymunk resolves the contacts. The ball rolls freely with a drag model
+    applied once per cycle. The number of substeps grows with the ball's speed so a hard kick
+    never moves it further than ``max_substep_travel`` in one substep (no tunnelling).
+    """
+
+    def __init__(
+        self, field: FieldSpec, physics: PhysicsConfig, n_players: int,
+        player_radius: float, player_mass: float,
+    ) -> None:
+        self.field = field
+        self.physics = physics
+        self.n_players = n_players
+        self.player_radius = player_radius
+        self.space = pymunk.Space()
+        self.space.gravity = (0.0, 0.0)
+        self.space.iterations = 10
+        self.margin = max(physics.world_margin, field.goal_depth + 0.5)
+        self.bounds = (field.half_length + self.margin, field.half_width + self.margin)
+        self._add_static_geometry()
+        self.players: list[pymunk.Body] = []
+        self._player_index: dict[pymunk.Body, int] = {}
+        for i in range(n_players):
+            body = pymunk.Body(player_mass, float("inf"))
+            shape = pymunk.Circle(body, player_radius)
+            shape.collision_type = PLAYER
+            shape.elasticity = physics.player_elasticity
+            shape.friction = 0.5
+            self.space.add(body, shape)
+            self.players.append(body)
+            self._player_index[body] = i
+        self.ball = pymunk.Body(physics.ball_mass, pymunk.moment_for_circle(
+            physics.ball_mass, 0.0, physics.ball_radius))
+        ball_shape = pymunk.Circle(self.ball, physics.ball_radius)
+        ball_shape.collision_type = BALL
+        ball_shape.elasticity = physics.ball_elasticity
+        ball_shape.friction = 0.2
+        self.space.add(self.ball, ball_shape)
+        self.impacts = np.zeros(n_players)
+        self.touches: list[int] = []  # player indices that touched the ball this cycle
+        self.space.on_collision(PLAYER, PLAYER, post_solve=self._on_player_impact)
+        self.space.on_collision(PLAYER, POST, post_solve=self._on_player_impact)
+        self.space.on_collision(BALL, PLAYER, pre_solve=self._on_ball_touch)
+        self._launch_table = self._build_launch_table()
+
+    # -- geometry --------------------------------------------------------------------------
+    def _add_static_geometry(self) -> None:
+        f, static = self.field, self.space.static_body
+        hx, hy = self.bounds
+        shapes: list[pymunk.Shape] = []
+        wall_r = 0.05
+        corners = [(-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy)]
+        for a, b in zip(corners, corners[1:] + corners[:1]):
+            shapes.append(self._static(pymunk.Segment(static, a, b, wall_r), WALL, 0.5))
+        for sign in (-1.0, 1.0):
+            line_x = sign * f.half_length
+            back_x = sign * (f.half_length + f.goal_depth)
+            for side in (-1.0, 1.0):
+                post = (line_x, side * f.half_goal_width)
+                shapes.append(self._static(
+                    pymunk.Circle(static, f.goal_post_radius, post), POST, 0.5))
+                # Net side wall, from the post to the back of the goal.
+                shapes.append(self._static(pymunk.Segment(
+                    static, (line_x + sign * f.goal_post_radius, side * f.half_goal_width),
+                    (back_x, side * f.half_goal_width), 0.02), WALL, 0.1))
+            shapes.append(self._static(pymunk.Segment(
+                static, (back_x, -f.half_goal_width), (back_x, f.half_goal_width), 0.02), WALL, 0.1))
+        self.space.add(*shapes)
+
+    @staticmethod
+    def _static(shape: pymunk.Shape, collision_type: int, elasticity: float) -> pymunk.Shape:
+        shape.collision_type = collision_type
+        shape.elasticity = elasticity
+        shape.friction = 0.3
+        return shape
+
+    # -- collision callbacks ---------------------------------------------------------------
+    def _on_player_impact(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data: object) -> None:
+        impulse = arbiter.total_impulse.length
+        for shape in arbiter.shapes:
+            index = self._player_index.get(shape.body)
+            if index is not None:
+                self.impacts[index] += impulse
+
+    def _on_ball_touch(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data: object) -> None:
+        for shape in arbiter.shapes:
+            index = self._player_index.get(shape.body)
+            if index is not None and (not self.touches or self.touches[-1] != index):
+                self.touches.append(index)
+
+    # -- state access ----------------------------------------------------------------------
+    def player_poses(self) -> np.ndarray:
+        """(n, 3) array of x, y, heading (heading wrapped to [-pi, pi))."""
+        out = np.empty((self.n_players, 3))
+        for i, body in enumerate(self.players):
+            x, y = body.position
+            out[i] = x, y, body.angle
+        out[:, 2] = wrap_angle(out[:, 2])
+        return out
+
+    def player_velocities(self) -> np.ndarray:
+        """(n, 3) array of vx, vy (m/s, world frame) and angular velocity (rad/s)."""
+        out = np.empty((self.n_players, 3))
+        for i, body in enumerate(self.players):
+            vx, vy = body.velocity
+            out[i] = vx, vy, body.angular_velocity
+        return out
+
+    def ball_state(self) -> np.ndarray:
+        """(4,) array: x, y, vx, vy of the ball."""
+        (x, y), (vx, vy) = self.ball.position, self.ball.velocity
+        return np.array([x, y, vx, vy])
+
+    def place_ball(self, x: float, y: float, vx: float = 0.0, vy: float = 0.0) -> None:
+        self.ball.position = (float(x), float(y))
+        self.ball.velocity = (float(vx), float(vy))
+        self.ball.angular_velocity = 0.0
+
+    def place_player(self, index: int, x: float, y: float, heading: float | None = None) -> None:
+        hx, hy = self.bounds
+        r = self.player_radius
+        body = self.players[index]
+        body.position = (float(np.clip(x, -hx + r, hx - r)), float(np.clip(y, -hy + r, hy - r)))
+        body.velocity = (0.0, 0.0)
+        if heading is not None:
+            body.angle = float(heading)
+        body.angular_velocity = 0.0
+
+    # -- dynamics --------------------------------------------------------------------------
+    def step(self, world_velocity: np.ndarray) -> None:
+        """Advance one cycle; players move with ``world_velocity`` (n, 3): vx, vy, omega."""
+        dt = self.physics.cycle_s
+        self.impacts[:] = 0.0
+        self.touches.clear()
+        for body, (vx, vy, omega) in zip(self.players, world_velocity.tolist()):
+            body.velocity = (vx, vy)
+            body.angular_velocity = omega
+        fastest = max(self.ball.velocity.length, float(np.abs(world_velocity[:, :2]).max(initial=0)))
+        substeps = max(1, math.ceil(fastest * dt / self.physics.max_substep_travel))
+        h = dt / substeps
+        for _ in range(substeps):
+            self.space.step(h)
+        self._roll_ball(dt)
+
+    def _roll_ball(self, dt: float) -> None:
+        vx, vy = self.ball.velocity
+        speed = math.hypot(vx, vy)
+        if speed == 0.0:
+            return
+        new_speed = rolled_speed(speed, self.physics, dt)
+        scale = new_speed / speed
+        self.ball.velocity = (vx * scale, vy * scale)
+        self.ball.angular_velocity = 0.0
+
+    def kick_ball(self, distance: float, direction: float) -> None:
+        """Launch the ball so it rolls ``distance`` metres towards world angle ``direction``."""
+        speed = self.launch_speed(distance)
+        self.ball.velocity = (speed * math.cos(direction), speed * math.sin(direction))
+
+    def launch_speed(self, distance: float) -> float:
+        """Speed (m/s) at which the ball rolls ``distance`` metres before it stops."""
+        speeds, distances = self._launch_table
+        return float(np.interp(distance, distances, speeds))
+
+    def _build_launch_table(self) -> tuple[np.ndarray, np.ndarray]:
+        speeds = np.linspace(0.0, self.physics.ball_max_speed, 241)
+        distances = np.array([roll_distance(s, self.physics) for s in speeds])
+        return speeds, distances
+
+
+def rolled_speed(speed: float, physics: PhysicsConfig, dt: float) -> float:
+    """Ball speed after one cycle of rolling drag, capped at ``ball_max_speed``."""
+    speed = min(speed, physics.ball_max_speed)
+    return max(0.0, speed * math.exp(-physics.ball_linear_drag * dt) - physics.ball_rolling_decel * dt)
+
+
+def roll_distance(speed: float, physics: PhysicsConfig) -> float:
+    """Distance (m) a free ball launched at ``speed`` rolls under the per-cycle drag model."""
+    dt, total = physics.cycle_s, 0.0
+    speed = min(speed, physics.ball_max_speed)
+    while speed > 0.0:
+        total += speed * dt
+        speed = rolled_speed(speed, physics, dt)
+    return total
+
+
+def wrap_angle(angle: np.ndarray | float) -> np.ndarray | float:
+    """Wrap radians to [-pi, pi)."""
+    return (np.asarray(angle) + np.pi) % (2 * np.pi) - np.pi

@@ -1,0 +1,110 @@
+"""Team plugins: the protocol a team implements and how a team spec is resolved.
+
+A team drives every agent of one side. Teams are found through the entry-point group
+``teamenv.teams`` (the built-in teams register there exactly as a third-party package would)
+or named directly as ``package.module:ClassName``. teamenv never imports ``strategy`` by name.
+"""
+
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass, field
+from importlib.metadata import entry_points
+from typing import Any, Mapping, Protocol, runtime_checkable
+
+from teamenv.errors import TeamLoadError
+from teamenv.field import FieldSpec
+
+ENTRY_POINT_GROUP = "teamenv.teams"
+
+
+@dataclass(frozen=True)
+class TeamContext:
+    """What a team is told about the match it plays, before the first cycle.
+
+    Attributes:
+        side: "left" or "right" (the team's observations are mirrored so it always attacks +x).
+        agents: the names of the agents it drives, e.g. ("left_1", ..., "left_11"); index i is
+            uniform number i + 1.
+        team_size: number of players per side.
+        field: the pitch geometry (metres).
+        cycle_s: game time per cycle (0.02 s).
+        channel: name of the say channel profile ("simspark" or "mj").
+        observation_mode: "state" (true state) or "vision".
+        seed: a seed for the team's own random generator (derived from the match seed).
+    """
+
+    side: str
+    agents: tuple[str, ...]
+    team_size: int
+    field: FieldSpec
+    cycle_s: float
+    channel: str
+    observation_mode: str
+    seed: int
+    extra: Mapping[str, Any] = field(default_factory=dict)
+
+
+@runtime_checkable
+class Team(Protocol):
+    """A team plugin. Construct as ``TeamClass(context, **config)``.
+
+    ``act`` receives the Dict-form observation of each of its agents (see
+    ``teamenv.parallel_env``'s docstring) and returns a Dict-form action per agent. A team must
+    decide each agent's action from that agent's observation alone (and what it heard); the
+    env does not enforce this, the team's own tests should.
+    """
+
+    def reset(self) -> None:
+        """Called at the start of every episode, before the first ``act``."""
+
+    def act(self, observations: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[str, Any]]:
+        """Return one action per agent in ``observations``."""
+
+
+def registered_teams() -> dict[str, str]:
+    """Map of registered team names to their ``module:attr`` target."""
+    return {ep.name: ep.value for ep in entry_points(group=ENTRY_POINT_GROUP)}
+
+
+def resolve_team_class(name: str) -> type:
+    """Resolve a registered name (``chaser``) or a ``module:Class`` path to a class."""
+    if not isinstance(name, str) or not name:
+        raise TeamLoadError(f"team: expected a team name or 'module:Class', got {name!r}")
+    matches = [ep for ep in entry_points(group=ENTRY_POINT_GROUP) if ep.name == name]
+    if matches:
+        try:
+            return matches[0].load()
+        except Exception as exc:  # the plugin's own import failed: say which one
+            raise TeamLoadError(f"team {name!r}: loading {matches[0].value} failed: {exc}") from exc
+    if ":" not in name:
+        raise TeamLoadError(
+            f"team: unknown team {name!r}; registered teams are {sorted(registered_teams())}, "
+            "or name a class as 'package.module:ClassName'"
+        )
+    module_name, _, attr = name.partition(":")
+    try:
+        module = importlib.import_module(module_name)
+    except ImportError as exc:
+        raise TeamLoadError(f"team {name!r}: cannot import module {module_name!r}: {exc}") from exc
+    try:
+        obj = module
+        for part in attr.split("."):
+            obj = getattr(obj, part)
+    except AttributeError:
+        raise TeamLoadError(f"team {name!r}: module {module_name!r} has no {attr!r}") from None
+    if not callable(obj):
+        raise TeamLoadError(f"team {name!r}: {attr!r} is not a class or factory")
+    return obj
+
+
+def make_team(name: str, context: TeamContext, config: Mapping[str, Any] | None = None) -> Team:
+    """Build the team ``name`` for ``context`` with keyword ``config``; check it is a Team."""
+    cls = resolve_team_class(name)
+    try:
+        team = cls(context, **dict(config or {}))
+    except TypeError as exc:
+        raise TeamLoadError(f"team {name!r}: bad config {dict(config or {})!r}: {exc}") from exc
+    if not (callable(getattr(team, "act", None)) and callable(getattr(team, "reset", None))):
+        raise TeamLoadError(f"team {name!r}: {cls!r} has no act()/reset() methods")
+    return team
