@@ -1,0 +1,82 @@
+"""Say-channel rules, hearing model and bit-packing codecs; must not import teamenv, strategy or locomotion.
+
+A leaf package (numpy only). Public API: `make_channel`, `Channel`, `Utterance`, `Heard`,
+`Drop`, `Delivery`, the profiles `SIMSPARK` / `MJ` (`PROFILES`, `get_profile`), and the
+exception types. Schemas and typed messages live in `comms.schema` and `comms.messages`.
+"""
+
+from comms.channel import (
+    REASON_CAPACITY,
+    REASON_INAUDIBLE,
+    REASON_LOST,
+    REASON_MAX_HEARD,
+    REASON_OUT_OF_RANGE,
+    Channel,
+    Delivery,
+    Drop,
+    Heard,
+    Utterance,
+    hearing_capacity_trace,
+    loss_probability,
+    make_channel,
+    received_volume,
+)
+from comms.errors import (
+    BudgetError,
+    ChannelError,
+    CommsError,
+    DecodeError,
+    EncodeError,
+    SchemaError,
+)
+from comms.profiles import (
+    BASE64_ALPHABET,
+    MJ,
+    PROFILES,
+    REASON_BAD_BASE64,
+    REASON_BAD_VOLUME,
+    REASON_ILLEGAL_CHARACTER,
+    REASON_NOT_A_STRING,
+    REASON_TOO_LONG,
+    SIMSPARK,
+    SIMSPARK_CHARSET,
+    ChannelProfile,
+    HearingCapacity,
+    get_profile,
+)
+
+__all__ = [
+    "BASE64_ALPHABET",
+    "MJ",
+    "PROFILES",
+    "REASON_BAD_BASE64",
+    "REASON_BAD_VOLUME",
+    "REASON_CAPACITY",
+    "REASON_ILLEGAL_CHARACTER",
+    "REASON_INAUDIBLE",
+    "REASON_LOST",
+    "REASON_MAX_HEARD",
+    "REASON_NOT_A_STRING",
+    "REASON_OUT_OF_RANGE",
+    "REASON_TOO_LONG",
+    "SIMSPARK",
+    "SIMSPARK_CHARSET",
+    "BudgetError",
+    "Channel",
+    "ChannelError",
+    "ChannelProfile",
+    "CommsError",
+    "DecodeError",
+    "Delivery",
+    "Drop",
+    "EncodeError",
+    "HearingCapacity",
+    "Heard",
+    "SchemaError",
+    "Utterance",
+    "get_profile",
+    "hearing_capacity_trace",
+    "loss_probability",
+    "make_channel",
+    "received_volume",
+]

@@ -1,0 +1,398 @@
+"""The say channel model: who hears which message, when, and from which direction."""
+
+import math
+import operator
+from collections import deque
+from collections.abc import Sequence
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from comms.errors import ChannelError
+from comms.profiles import REASON_BAD_VOLUME, ChannelProfile, HearingCapacity, get_profile
+
+#: Per-listener drop reasons (illegal messages use the reasons of `ChannelProfile.check_message`).
+REASON_OUT_OF_RANGE = "out_of_range"  # farther than the profile's hearing range
+REASON_CAPACITY = "capacity"  # SimSpark hearing capacity exhausted this cycle
+REASON_LOST = "lost"  # `mj`: random loss of a message that was not among the loudest
+REASON_MAX_HEARD = "max_heard"  # more messages than the listener's `max_heard` slots
+REASON_INAUDIBLE = "inaudible"  # `mj`: said at volume 0 (listener -1: nobody hears it)
+
+_TWO_PI = 2.0 * math.pi
+
+
+class Utterance(NamedTuple):
+    """One `say` of one agent in one cycle.
+
+    speaker: agent index (0..n_agents-1); text: the say text ("" = silent);
+    volume: percent 0-100, used by `mj` only.
+    """
+
+    speaker: int
+    text: str
+    volume: float = 100.0
+
+
+class Heard(NamedTuple):
+    """One message as one listener hears it.
+
+    speaker: agent index (for infos and tests; agents are not shown it);
+    direction: rad, direction of the speaker relative to the listener's heading, in [-pi, pi)
+    (0 for self); is_self: the listener's own message; teammate: the speaker is on the
+    listener's team (True for self).
+    """
+
+    speaker: int
+    text: str
+    direction: float
+    is_self: bool
+    teammate: bool
+
+
+class Drop(NamedTuple):
+    """A message that did not reach a listener; listener is -1 when nobody hears it."""
+
+    speaker: int
+    listener: int
+    reason: str
+
+
+class Delivery:
+    """What every listener hears from one cycle's utterances.
+
+    `heard[i]`: list of Heard for listener i, at most `max_heard`, self first.
+    `dropped`: list of Drop (built on first access, so a caller that ignores it pays nothing).
+    """
+
+    __slots__ = ("heard", "_dropped", "_pending")
+
+    def __init__(
+        self,
+        heard: list[list[Heard]],
+        dropped: list[Drop] | None = None,
+        pending: Any = None,
+    ) -> None:
+        self.heard = heard
+        self._dropped = dropped if dropped is not None else []
+        self._pending = pending
+
+    @property
+    def dropped(self) -> list[Drop]:
+        """Every drop of the cycle: illegal messages first, then per-listener drops."""
+        if self._pending is not None:
+            speaker_ids, chunks, overflow = self._pending
+            self._pending = None
+            out = self._dropped
+            for mask, reason in chunks:
+                si, li = np.nonzero(mask)
+                out.extend(
+                    Drop(s, ls, reason)
+                    for s, ls in zip(speaker_ids[si].tolist(), li.tolist(), strict=True)
+                )
+            out.extend(overflow)
+        return self._dropped
+
+    def __repr__(self) -> str:
+        n = sum(len(h) for h in self.heard)
+        return f"Delivery(listeners={len(self.heard)}, heard={n}, dropped={len(self.dropped)})"
+
+
+def received_volume(
+    volume: Any, distance_m: Any, db_per_doubling: float = 6.0, reference_m: float = 1.0
+) -> np.ndarray:
+    """Volume (percent) at which a message said at `volume` arrives `distance_m` metres away.
+
+    Falls `db_per_doubling` dB (amplitude) per doubling of distance beyond `reference_m`
+    (RCSSServerMJ: 6 dB, 1 m, i.e. roughly volume / distance).
+    """
+    d = np.maximum(np.asarray(distance_m, dtype=np.float64), reference_m)
+    return np.asarray(volume, dtype=np.float64) * 10.0 ** (
+        -db_per_doubling * np.log2(d / reference_m) / 20.0
+    )
+
+
+def loss_probability(
+    received: Any,
+    max_volume: float = 100.0,
+    midpoint_m: float = 50.0,
+    db_per_doubling: float = 6.0,
+    reference_m: float = 1.0,
+) -> np.ndarray:
+    """`mj`: probability that a message arriving at volume `received` is lost.
+
+    RCSSServerMJ's distance-based loss p = 0.5 tanh(pi d / midpoint - pi) + 0.5, evaluated at
+    the distance from which a max-volume message would arrive this loud (so for volume 100 it
+    is the true distance: 25 m 4 %, 40 m 22 %, 50 m 50 %, 60 m 78 %, 75 m 96 %).
+    """
+    rec = np.asarray(received, dtype=np.float64)
+    with np.errstate(divide="ignore"):
+        d_eff = reference_m * 2.0 ** (-20.0 * np.log10(rec / max_volume) / db_per_doubling)
+    return 0.5 * np.tanh(math.pi * d_eff / midpoint_m - math.pi) + 0.5
+
+
+def hearing_capacity_trace(
+    arrivals: Sequence[int], capacity: HearingCapacity | None = None
+) -> list[int]:
+    """How many messages of one sender class (teammates or opponents) one listener hears.
+
+    `arrivals[t]`: messages of that class arriving in cycle t (within range). Returns the
+    number heard in each cycle. Same rule as the channel: the counter starts at `maximum`,
+    gains `increment` at the start of every cycle (capped), and each message heard needs and
+    costs `cost`; messages beyond that are dropped in arrival order. Default: the league's
+    HearingCapacity(maximum=2, increment=1, cost=2).
+    """
+    if capacity is None:
+        capacity = HearingCapacity()
+    cap = capacity.maximum
+    out = []
+    for a in arrivals:
+        cap = min(cap + capacity.increment, capacity.maximum)
+        k = min(int(a), cap // capacity.cost)
+        cap -= k * capacity.cost
+        out.append(k)
+    return out
+
+
+class Channel:
+    """A say channel for `n_agents` agents in two teams (stateful: capacities, delay queue).
+
+    Call `deliver` once per cycle with that cycle's utterances; it returns what each listener
+    hears in the observation that follows (the league's one-cycle delay). Randomness (arrival
+    order, `mj` loss) comes only from the Generator passed to `deliver`.
+    """
+
+    def __init__(self, profile: ChannelProfile, n_agents: int, teams: Any) -> None:
+        n_agents = operator.index(n_agents)
+        if n_agents < 1:
+            raise ChannelError(f"n_agents must be >= 1, got {n_agents}")
+        teams_arr = np.asarray(teams)
+        if teams_arr.shape != (n_agents,):
+            raise ChannelError(
+                f"teams must have shape ({n_agents},) (one team id per agent), "
+                f"got shape {teams_arr.shape}"
+            )
+        if not np.isin(teams_arr, (0, 1)).all():
+            raise ChannelError(f"teams must hold 0 (left) or 1 (right), got {teams_arr.tolist()}")
+        self.profile: ChannelProfile = profile
+        self.n_agents: int = n_agents
+        self.teams: np.ndarray = teams_arr.astype(np.int8)
+        self.teams.setflags(write=False)
+        self._arange = np.arange(n_agents)
+        self._cap = np.zeros((2, n_agents), dtype=np.int64)
+        self._queue: deque[Delivery] = deque()
+        self.reset()
+
+    def reset(self) -> None:
+        """Refill every hearing capacity and forget queued (delayed) messages."""
+        cap = self.profile.capacity
+        self._cap[:] = cap.maximum if cap is not None else 0
+        self._queue.clear()
+
+    def check_message(self, text: Any) -> str | None:
+        """None if `text` is a legal say text, else the reason ("too_long", ...)."""
+        return self.profile.check_message(text)
+
+    @property
+    def capacities(self) -> np.ndarray:
+        """Copy of the hearing counters, shape (2, n): row 0 teammates, row 1 opponents."""
+        return self._cap.copy()
+
+    # ------------------------------------------------------------------ delivery
+    def deliver(
+        self,
+        utterances: Sequence[Utterance],
+        positions: Any,
+        headings: Any,
+        rng: np.random.Generator,
+    ) -> Delivery:
+        """Route one cycle's utterances to the listeners.
+
+        Args:
+            utterances: this cycle's Utterance objects (at most one per speaker; empty text =
+                silent and ignored).
+            positions: (n, 2) agent positions in metres, any common frame.
+            headings: (n,) agent headings in radians, same frame.
+            rng: the env's numpy Generator (arrival order, random loss).
+
+        Returns:
+            Delivery for the observation that follows this cycle.
+
+        Raises:
+            ChannelError: bad speaker index, a speaker twice, or bad array shapes.
+        """
+        prof = self.profile
+        n = self.n_agents
+        cap = prof.capacity
+        if cap is not None and cap.increment:
+            np.minimum(self._cap + cap.increment, cap.maximum, out=self._cap)
+        speakers: list[int] = []
+        texts: list[str] = []
+        volumes: list[float] = []
+        illegal: list[Drop] = []
+        if utterances:
+            seen: set[int] = set()
+            check = prof.check_message
+            max_volume = prof.max_volume
+            for u in utterances:
+                s = u[0]
+                if type(s) is not int:
+                    try:
+                        s = operator.index(s)
+                    except TypeError:
+                        raise ChannelError(f"speaker must be an int, got {s!r}") from None
+                if not 0 <= s < n:
+                    raise ChannelError(f"speaker index {s} out of range 0..{n - 1}")
+                if s in seen:
+                    raise ChannelError(f"speaker {s} has more than one utterance this cycle")
+                seen.add(s)
+                text = u[1]
+                if text == "":
+                    continue
+                reason = check(text)
+                if reason is None:
+                    volume = u[2]
+                    if not isinstance(volume, (int, float, np.number)) or not (
+                        0.0 <= volume <= max_volume  # also rejects NaN
+                    ):
+                        reason = REASON_BAD_VOLUME
+                    elif volume == 0.0 and prof.attenuation_db_per_doubling > 0.0:
+                        reason = REASON_INAUDIBLE
+                if reason is not None:
+                    illegal.append(Drop(s, -1, reason))
+                    continue
+                speakers.append(s)
+                texts.append(text)
+                volumes.append(float(u[2]))
+        if not speakers:
+            delivery = Delivery([[] for _ in range(n)], illegal)
+        else:
+            delivery = self._route(speakers, texts, volumes, illegal, positions, headings, rng)
+        if prof.delay_cycles == 1:
+            return delivery
+        self._queue.append(delivery)
+        if len(self._queue) >= prof.delay_cycles:
+            return self._queue.popleft()
+        return Delivery([[] for _ in range(n)])
+
+    def _route(
+        self,
+        speakers: list[int],
+        texts: list[str],
+        volumes: list[float],
+        illegal: list[Drop],
+        positions: Any,
+        headings: Any,
+        rng: np.random.Generator,
+    ) -> Delivery:
+        prof = self.profile
+        n = self.n_agents
+        n_spk = len(speakers)
+        if n_spk > 1:
+            if prof.arrival_order == "shuffle":
+                perm = rng.permutation(n_spk).tolist()
+            else:
+                perm = sorted(range(n_spk), key=speakers.__getitem__)
+            speakers = [speakers[k] for k in perm]
+            texts = [texts[k] for k in perm]
+            volumes = [volumes[k] for k in perm]
+        pos = np.asarray(positions, dtype=np.float64)
+        hd = np.asarray(headings, dtype=np.float64)
+        if pos.shape != (n, 2) or hd.shape != (n,):
+            raise ChannelError(
+                f"positions must be ({n}, 2) and headings ({n},), got {pos.shape} and {hd.shape}"
+            )
+        spk = np.asarray(speakers, dtype=np.intp)
+        rel = pos[spk][:, None, :] - pos[None, :, :]  # listener -> speaker, (S, N, 2)
+        dist = np.hypot(rel[..., 0], rel[..., 1])
+        is_self = spk[:, None] == self._arange[None, :]
+        same = self.teams[spk][:, None] == self.teams[None, :]
+        in_range = dist <= prof.hearing_range_m
+        audible = in_range & ~is_self
+        chunks: list[tuple[np.ndarray, str]] = []
+        out_of_range = ~in_range
+        if out_of_range.any():
+            chunks.append((out_of_range, REASON_OUT_OF_RANGE))
+        arrival = np.arange(n_spk)[:, None]
+
+        if prof.attenuation_db_per_doubling > 0.0:
+            # mj: received volume, loudest-first ranking, random loss of the quieter ones.
+            att = prof.attenuation_db_per_doubling
+            received = received_volume(
+                np.asarray(volumes)[:, None], dist, att, prof.reference_distance_m
+            )
+            key = np.where(audible, -received, np.inf)
+            order = np.argsort(key, axis=0, kind="stable")
+            rank = np.empty_like(order)
+            np.put_along_axis(rank, order, np.broadcast_to(arrival, order.shape), axis=0)
+            loud = audible & (rank < prof.always_heard)
+            if math.isfinite(prof.loss_midpoint_m):
+                p_loss = loss_probability(
+                    received,
+                    prof.max_volume,
+                    prof.loss_midpoint_m,
+                    att,
+                    prof.reference_distance_m,
+                )
+                survive = audible & (loud | (rng.random(dist.shape) >= p_loss))
+            else:
+                survive = audible
+            lost = audible & ~survive
+            if lost.any():
+                chunks.append((lost, REASON_LOST))
+            heard = survive
+            sort_key = rank + 1
+        else:
+            # simspark: range, then per-listener capacity in arrival order.
+            cap = prof.capacity
+            if cap is None:
+                heard = audible
+            else:
+                heard = np.zeros_like(audible)
+                for g, group in ((0, same), (1, ~same)):
+                    m = audible & group
+                    ok = m & (np.cumsum(m, axis=0) <= (self._cap[g] // cap.cost))
+                    self._cap[g] -= cap.cost * ok.sum(axis=0)
+                    heard |= ok
+                over = audible & ~heard
+                if over.any():
+                    chunks.append((over, REASON_CAPACITY))
+            sort_key = np.where(same, 1, 2) * n_spk + arrival
+        if prof.self_echo:
+            heard = heard | is_self
+        sort_key = np.where(is_self, -1, sort_key)
+
+        li, si = np.nonzero(heard.T)
+        keys = sort_key[si, li]
+        order = np.lexsort((keys, li))
+        li = li[order]
+        si = si[order]
+        ang = np.arctan2(rel[si, li, 1], rel[si, li, 0]) - hd[li]
+        ang = (ang + math.pi) % _TWO_PI - math.pi
+        q = prof.direction_quantum_deg
+        if q > 0.0:
+            ang = np.radians(np.trunc(np.degrees(ang) / q) * q)
+        ang[is_self[si, li]] = 0.0
+
+        out: list[list[Heard]] = [[] for _ in range(n)]
+        overflow: list[Drop] = []
+        max_heard = prof.max_heard
+        teams = self.teams.tolist()
+        for lst_i, s_i, a in zip(li.tolist(), si.tolist(), ang.tolist(), strict=True):
+            lst = out[lst_i]
+            s = speakers[s_i]
+            if len(lst) >= max_heard:
+                overflow.append(Drop(s, lst_i, REASON_MAX_HEARD))
+                continue
+            lst.append(Heard(s, texts[s_i], a, s == lst_i, teams[s] == teams[lst_i]))
+        return Delivery(out, illegal, (spk, chunks, overflow))
+
+
+def make_channel(
+    profile: "str | ChannelProfile", n_agents: int, teams: Any, **overrides: Any
+) -> Channel:
+    """Build a Channel for `n_agents` agents; `teams` holds 0 (left) or 1 (right) per agent.
+
+    `profile` is "simspark", "mj" or a ChannelProfile; keyword overrides replace profile
+    fields (e.g. `max_heard=21`, `arrival_order="index"`); an unknown key is a ChannelError.
+    """
+    return Channel(get_profile(profile, **overrides), n_agents, teams)

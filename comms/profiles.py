@@ -1,0 +1,198 @@
+"""Say-channel profiles: the league rules (alphabet, length, hearing model) as frozen data."""
+
+import math
+import re
+from dataclasses import dataclass, field, fields, replace
+from typing import Any, Literal
+
+from comms.errors import ChannelError
+
+#: SimSpark: every printable ASCII character 0x21-0x7E except the S-expression parentheses.
+SIMSPARK_CHARSET: str = "".join(chr(c) for c in range(0x21, 0x7F) if chr(c) not in "()")
+#: Standard base64 alphabet (RFC 4648 section 4), the data characters of an `mj` message.
+BASE64_ALPHABET: str = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/"
+#: `mj`: base64 with mandatory padding.
+MJ_CHARSET: str = BASE64_ALPHABET + "="
+
+#: Reasons `check_message` can return (and `Drop.reason` values for illegal messages).
+REASON_NOT_A_STRING = "not_a_string"
+REASON_TOO_LONG = "too_long"
+REASON_ILLEGAL_CHARACTER = "illegal_character"
+REASON_BAD_BASE64 = "bad_base64"
+REASON_BAD_VOLUME = "bad_volume"
+
+
+@dataclass(frozen=True)
+class HearingCapacity:
+    """SimSpark's per-listener hearing budget (AgentState): one counter per sender class.
+
+    Each listener keeps two counters, one for teammates and one for opponents. Both start at
+    `maximum`; every cycle each gains `increment` (capped at `maximum`); hearing a message needs
+    the counter to be at least `cost` and subtracts `cost`. With the league's numbers (2, 1, 2)
+    a listener hears at most one teammate and one opponent message every 2 cycles.
+    """
+
+    maximum: int = 2
+    increment: int = 1
+    cost: int = 2
+
+    def __post_init__(self) -> None:
+        if self.cost <= 0 or self.increment < 0 or self.maximum < 0:
+            raise ChannelError(
+                f"HearingCapacity needs cost > 0, increment >= 0, maximum >= 0; got "
+                f"maximum={self.maximum}, increment={self.increment}, cost={self.cost}"
+            )
+
+
+@dataclass(frozen=True)
+class ChannelProfile:
+    """Rules of one say channel. Units: metres, cycles, dB, percent of volume.
+
+    Attributes:
+        name: profile name (`"simspark"` or `"mj"`).
+        max_chars: longest legal `say` text in characters.
+        charset: every legal character, as one string.
+        max_heard: most messages one listener receives per cycle (slots in the observation).
+        payload_bits: the channel's raw capacity in bits for one message (`mj`: 10 bytes = 80;
+            `simspark`: 20 characters of 92 symbols = 130, base-92 big-integer packing).
+        base64_payload: the text is the padded base64 of at most `payload_bytes` bytes (`mj`).
+        payload_bytes: most payload bytes before base64 (`mj` only, else None).
+        hearing_range_m: listeners farther than this never hear (`math.inf`: no hard limit).
+        self_echo: a speaker hears its own message (not charged against its capacity).
+        capacity: SimSpark hearing-capacity model, or None for no capacity limit.
+        always_heard: `mj`: this many loudest messages per listener are never lost.
+        attenuation_db_per_doubling: `mj`: received volume falls this many dB per doubling of
+            distance beyond `reference_distance_m`.
+        reference_distance_m: distance (m) under which no attenuation applies.
+        loss_midpoint_m: `mj`: a volume-100 message from this far is lost with probability 0.5
+            (distance-based loss of RCSSServerMJ: p = 0.5 tanh(pi d / mid - pi) + 0.5).
+        max_volume: loudest legal `Utterance.volume` (percent).
+        delay_cycles: a message said in cycle t is heard in the observation of cycle t +
+            delay_cycles; 1 (the league) means `deliver` returns it at once and the env puts it
+            into the next observation; larger values are queued inside the channel.
+        arrival_order: order in which one cycle's messages arrive at the listeners (it decides
+            which are dropped by the capacity model): `"shuffle"` (a permutation drawn from the
+            env's Generator each cycle with 2+ speakers) or `"index"` (ascending speaker index).
+        direction_quantum_deg: heard directions are truncated (towards 0) to multiples of this
+            many degrees (`mj` reports integer degrees); 0 keeps them exact.
+    """
+
+    name: str
+    max_chars: int
+    charset: str
+    max_heard: int
+    payload_bits: int
+    base64_payload: bool = False
+    payload_bytes: int | None = None
+    hearing_range_m: float = math.inf
+    self_echo: bool = False
+    capacity: HearingCapacity | None = None
+    always_heard: int = 0
+    attenuation_db_per_doubling: float = 0.0
+    reference_distance_m: float = 1.0
+    loss_midpoint_m: float = math.inf
+    max_volume: float = 100.0
+    delay_cycles: int = 1
+    arrival_order: Literal["shuffle", "index"] = "shuffle"
+    direction_quantum_deg: float = 0.0
+    _charset_set: frozenset = field(init=False, repr=False, compare=False)
+    _legal_re: Any = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        if self.max_chars < 0 or self.max_heard < 0 or self.delay_cycles < 1:
+            raise ChannelError(
+                f"profile {self.name!r}: need max_chars >= 0, max_heard >= 0, delay_cycles >= 1; "
+                f"got {self.max_chars}, {self.max_heard}, {self.delay_cycles}"
+            )
+        if self.arrival_order not in ("shuffle", "index"):
+            raise ChannelError(
+                f"profile {self.name!r}: arrival_order must be 'shuffle' or 'index', "
+                f"got {self.arrival_order!r}"
+            )
+        if self.base64_payload and not self.payload_bytes:
+            raise ChannelError(f"profile {self.name!r}: base64_payload needs payload_bytes")
+        object.__setattr__(self, "_charset_set", frozenset(self.charset))
+        object.__setattr__(
+            self, "_legal_re", re.compile("[" + re.escape(self.charset) + "]*").fullmatch
+        )
+
+    def check_message(self, text: Any) -> str | None:
+        """Return None if `text` is a legal say text under this profile, else the reason.
+
+        Reasons: "not_a_string", "too_long", "illegal_character", "bad_base64" (`mj`: length
+        not a multiple of 4 or misplaced padding). The empty string is legal (silence).
+        """
+        if not isinstance(text, str):
+            return REASON_NOT_A_STRING
+        if len(text) > self.max_chars:
+            return REASON_TOO_LONG
+        if self._legal_re(text) is None:
+            return REASON_ILLEGAL_CHARACTER
+        if self.base64_payload and text:
+            if len(text) % 4 or _PADDED_B64(text) is None:
+                return REASON_BAD_BASE64
+            n_bytes = len(text) // 4 * 3 - (len(text) - len(text.rstrip("=")))
+            if n_bytes > self.payload_bytes:
+                return REASON_TOO_LONG
+        return None
+
+
+_PADDED_B64 = re.compile("[A-Za-z0-9+/]*={0,2}").fullmatch
+
+SIMSPARK = ChannelProfile(
+    name="simspark",
+    max_chars=20,
+    charset=SIMSPARK_CHARSET,
+    max_heard=3,  # self, one teammate, one opponent (the capacity model allows no more)
+    payload_bits=int(20 * math.log2(len(SIMSPARK_CHARSET))),  # 130
+    hearing_range_m=50.0,
+    self_echo=True,
+    capacity=HearingCapacity(maximum=2, increment=1, cost=2),
+)
+
+MJ = ChannelProfile(
+    name="mj",
+    max_chars=16,  # base64 of 10 bytes, padded: 4 * ceil(10 / 3)
+    charset=MJ_CHARSET,
+    # The server itself has no cap; observations need a fixed number of slots. 3 loudest
+    # (never lost) + up to 5 more survivors of the random loss, loudest first.
+    max_heard=8,
+    payload_bits=80,
+    base64_payload=True,
+    payload_bytes=10,
+    self_echo=False,  # RCSSServerMJ: "the sending agent will not receive its own message"
+    always_heard=3,
+    attenuation_db_per_doubling=6.0,
+    reference_distance_m=1.0,
+    loss_midpoint_m=50.0,
+    direction_quantum_deg=1.0,
+)
+
+PROFILES: dict[str, ChannelProfile] = {SIMSPARK.name: SIMSPARK, MJ.name: MJ}
+
+_OVERRIDABLE = frozenset(f.name for f in fields(ChannelProfile) if f.init) - {"name"}
+
+
+def get_profile(name: "str | ChannelProfile", **overrides: Any) -> ChannelProfile:
+    """Return the named profile (or the given one), with `overrides` applied.
+
+    Raises ChannelError for an unknown name or an unknown override key.
+    """
+    if isinstance(name, ChannelProfile):
+        profile = name
+    else:
+        try:
+            profile = PROFILES[name]
+        except (KeyError, TypeError):
+            raise ChannelError(
+                f"unknown channel profile {name!r}; known: {sorted(PROFILES)}"
+            ) from None
+    if overrides:
+        unknown = set(overrides) - _OVERRIDABLE
+        if unknown:
+            raise ChannelError(
+                f"unknown channel option(s) {sorted(unknown)} for profile {profile.name!r}; "
+                f"known: {sorted(_OVERRIDABLE)}"
+            )
+        profile = replace(profile, **overrides)
+    return profile
