@@ -33,3 +33,16 @@ class MissingExtraError(TeamEnvError, ImportError):
         )
         self.extra = extra
         self.package = package
+
+
+class TeamFault(TeamEnvError, RuntimeError):
+    """A team plugin failed during a cycle: it raised, returned invalid actions, or was too slow.
+
+    ``side`` is "left" or "right"; ``reason`` one of "raised", "invalid_action", "too_slow".
+    """
+
+    def __init__(self, side: str, reason: str, detail: str) -> None:
+        super().__init__(f"team on the {side} side: {reason}: {detail}")
+        self.side = side
+        self.reason = reason
+        self.detail = detail

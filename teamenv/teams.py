@@ -31,7 +31,9 @@ class TeamContext:
         cycle_s: game time per cycle (0.02 s).
         channel: name of the say channel profile ("simspark" or "mj").
         observation_mode: "state" (true state) or "vision".
-        seed: a seed for the team's own random generator (derived from the match seed).
+        seed: the seed of the first episode (each ``reset(seed)`` gives the episode's seed).
+        walk_low, walk_high: the walk command range (vx, vy m/s, vturn rad/s) actions must obey.
+        kick_reach: how close (m, body centre to ball centre) a player must be to kick.
     """
 
     side: str
@@ -42,6 +44,9 @@ class TeamContext:
     channel: str
     observation_mode: str
     seed: int
+    walk_low: tuple[float, float, float] = (-1.0, -0.4, -1.5)
+    walk_high: tuple[float, float, float] = (1.5, 0.4, 1.5)
+    kick_reach: float = 0.35
     extra: Mapping[str, Any] = field(default_factory=dict)
 
 
@@ -55,8 +60,9 @@ class Team(Protocol):
     env does not enforce this, the team's own tests should.
     """
 
-    def reset(self) -> None:
-        """Called at the start of every episode, before the first ``act``."""
+    def reset(self, seed: int) -> None:
+        """Called at the start of every episode, before the first ``act``; all of the team's
+        randomness must come from ``seed`` (derived from the match seed)."""
 
     def act(self, observations: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[str, Any]]:
         """Return one action per agent in ``observations``."""

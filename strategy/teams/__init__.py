@@ -1,0 +1,1 @@
+"""Built-in teams, registered as ``teamenv.teams`` entry points in pyproject.toml."""

@@ -1,0 +1,40 @@
+"""The static team: every player walks to a fixed spot in its own half and stays there."""
+
+from __future__ import annotations
+
+from typing import Any, Mapping
+
+import numpy as np
+
+from strategy.teams.common import walk_to
+from teamenv.observation import team_frame
+from teamenv.teams import TeamContext
+
+
+class StaticTeam:
+    """Holds a fixed grid of positions in the own half (a goalie on the goal line); never
+    kicks. The weakest opponent, useful as a baseline and for tests."""
+
+    def __init__(self, context: TeamContext, depth: float = 0.5):
+        if not 0.0 < depth <= 1.0:
+            raise ValueError(f"static team: depth must be in (0, 1], got {depth!r}")
+        self.context = context
+        self.bounds = (context.walk_low, context.walk_high)
+        f, n = context.field, context.team_size
+        spots = [np.array([-f.half_length + 0.3, 0.0])]
+        rest = n - 1
+        for k in range(rest):
+            y = f.half_width * 0.8 * (((k + 1) / (rest + 1)) * 2 - 1)
+            x = -f.half_length * depth * (0.9 if k % 2 else 0.5)
+            spots.append(np.array([x, y]))
+        self.spots = {agent: spots[k] for k, agent in enumerate(context.agents)}
+
+    def reset(self, seed: int) -> None:
+        del seed  # no randomness
+
+    def act(self, observations: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[str, Any]]:
+        out = {}
+        for agent, obs in observations.items():
+            view = team_frame(obs)
+            out[agent] = {"walk": walk_to(view, self.spots[agent], *self.bounds, face=view.ball, speed=0.6)}
+        return out

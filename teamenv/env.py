@@ -1,0 +1,404 @@
+"""The PettingZoo ParallelEnv: a thin shell over teamenv.sim.Simulation."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Any, Callable, Mapping
+
+import numpy as np
+from pettingzoo import ParallelEnv
+
+import locomotion
+from teamenv import spaces as tspaces
+from teamenv.actions import ActionParser
+from teamenv.config import PhysicsConfig, RulesConfig, build_config
+from teamenv.errors import ActionError, ConfigError, TeamFault
+from teamenv.field import FieldSpec, field_preset
+from teamenv.sim.playmode import PlayMode
+from teamenv.sim.simulation import Commands, CycleReport, Simulation
+from teamenv.teams import TeamContext, make_team
+
+SIDES = ("left", "right")
+OBSERVATION_MODES = ("state",)
+
+
+@dataclass(frozen=True)
+class RewardInput:
+    """What a reward function sees each cycle (all world-frame; team 0 is left).
+
+    ``default`` holds the built-in goal rewards: +1 to every agent of a scoring team, -1 to
+    every agent of the other, 0 otherwise.
+    """
+
+    agents: tuple[str, ...]
+    report: CycleReport
+    state: np.ndarray
+    previous_state: np.ndarray
+    play_mode: str
+    attack_sign: tuple[float, float]
+    default: Mapping[str, float]
+
+
+RewardFn = Callable[[RewardInput], Mapping[str, float]]
+
+
+class SoccerParallelEnv(ParallelEnv):
+    """N v N humanoid-like robot soccer, 20 ms per step, as a PettingZoo ``ParallelEnv``.
+
+    Agents are ``left_1..left_N`` and ``right_1..right_N`` (uniform numbers). A side named by a
+    team plugin (``left="chaser"``) is driven by that team and is not in ``agents``.
+
+    Actions (``action_format="dict"``, the default), per agent; omitted keys take defaults:
+        walk (3,) float: vx, vy (m/s), vturn (rad/s), body frame, within the locomotion
+            profile's command range; the body does what its walk model allows.
+        kick (2,) float: power in [0, 1] (0 = no kick), direction (rad, body frame).
+        beam (3,) float: x in [-length/2, 0], y, rot: a pose in the team frame (own half).
+        beam_request: 0 or 1. A beam is carried out only in BeforeKickOff and after a goal.
+        say: str, at most the channel's length in its legal characters; "" = silent.
+    Actions (``action_format="box"``): a float32 vector in [-1, 1]^9:
+        [vx, vy, vturn, kick_power, kick_dir, beam_request, beam_x, beam_y, beam_rot];
+        walk entries scale to the profile's command range (asymmetric: -1 is full backward),
+        kick_power <= 0 means no kick, kick_dir * pi rad, beam_request > 0 beams,
+        beam_x -1..1 maps to -length/2..0, beam_y * width/2, beam_rot * pi. No ``say``.
+
+    Observations (``observation_format="dict"``), team frame (every side attacks +x):
+        self (7,): x, y, heading, vx, vy, omega, fallen — absolute in the team frame.
+        ball (4,): x, y, vx, vy, relative to self in its body frame.
+        teammates, opponents (N, 5): x, y (body frame, relative), relative heading, fallen,
+            present; row k is uniform number k + 1.
+        play_mode: index into ``teamenv.PLAY_MODES``, team-relative (``_Left`` = own team).
+        game (4,): game time (s), half, own score, opponent score.
+        heard_text: tuple of K messages heard this cycle ("" = empty slot); slot 0 is the
+            agent's own message, then teammate(s), then opponent(s).
+        heard (K, 4): present, from self, from a teammate, direction (rad, body frame).
+    ``observation_format="box"`` concatenates the numeric parts (play mode one-hot), no texts.
+
+    Rewards: +1 to each agent of a team that scores, -1 to the other team; pass
+    ``reward_fn(RewardInput) -> {agent: reward}`` to shape them. Episodes terminate at
+    GameOver; ``max_cycles`` truncates. ``state()`` is a world-frame vector for centralized
+    critics. Infos are empty unless something happened to the agent: ``dropped`` (lenient
+    drops of its action), ``beam_refused``, ``message_dropped``, ``goal`` (team that scored).
+
+    Bad input raises ActionError/MessageError naming agent, field and value when ``strict``
+    (the default); ``strict=False`` drops or clips it instead and reports it in infos.
+    """
+
+    metadata = {"name": "teamenv_soccer_v0", "render_modes": ["human", "rgb_array"],
+                "render_fps": 50, "is_parallelizable": True}
+
+    def __init__(
+        self,
+        field: str | FieldSpec = "simspark",
+        team_size: int | None = None,
+        left: str | None = None,
+        right: str | None = None,
+        left_config: Mapping[str, Any] | None = None,
+        right_config: Mapping[str, Any] | None = None,
+        *,
+        rules: RulesConfig | Mapping[str, Any] | None = None,
+        physics: PhysicsConfig | Mapping[str, Any] | None = None,
+        observation_mode: str = "state",
+        observation_format: str = "dict",
+        action_format: str = "dict",
+        channel: str = "simspark",
+        locomotion_profile: str = "t1_mj",
+        strict: bool = True,
+        reward_fn: RewardFn | None = None,
+        max_cycles: int | None = None,
+        team_cycle_budget_s: float | None = None,
+        render_mode: str | None = None,
+    ) -> None:
+        self.field = field_preset(field)
+        self.team_size = self.field.default_team_size if team_size is None else team_size
+        if not isinstance(self.team_size, (int, np.integer)) or not 1 <= self.team_size <= 11:
+            raise ConfigError(f"team_size: must be an int in 1..11, got {team_size!r}")
+        self.team_size = int(self.team_size)
+        _choice("observation_mode", observation_mode, OBSERVATION_MODES)
+        _choice("observation_format", observation_format, ("dict", "box"))
+        _choice("action_format", action_format, ("dict", "box"))
+        _choice("render_mode", render_mode, (None, *self.metadata["render_modes"]))
+        if max_cycles is not None and (not isinstance(max_cycles, int) or max_cycles < 1):
+            raise ConfigError(f"max_cycles: must be a positive int or None, got {max_cycles!r}")
+        if reward_fn is not None and not callable(reward_fn):
+            raise ConfigError(f"reward_fn: must be callable, got {reward_fn!r}")
+        self.rules = build_config(RulesConfig, rules)
+        self.physics = build_config(PhysicsConfig, physics)
+        self.observation_mode = observation_mode
+        self.observation_format = observation_format
+        self.action_format = action_format
+        self.strict = strict
+        self.reward_fn = reward_fn
+        self.max_cycles = max_cycles
+        self.team_cycle_budget_s = team_cycle_budget_s
+        self.render_mode = render_mode
+        try:
+            profile = locomotion.load_profile(locomotion_profile)
+        except Exception as exc:
+            raise ConfigError(f"locomotion_profile: {exc}") from exc
+        try:
+            self.sim = Simulation(self.field, self.team_size, self.rules, self.physics, profile,
+                                  channel)
+        except (KeyError, ValueError) as exc:
+            raise ConfigError(f"channel: {exc}") from exc
+        self.channel_name = channel
+        n = self.team_size
+        self.player_names = [f"{side}_{k + 1}" for side in SIDES for k in range(n)]
+        self._row = {name: i for i, name in enumerate(self.player_names)}
+
+        channel_profile = self.sim.channel.profile
+        self.parser = ActionParser(self.field, profile.command_low, profile.command_high,
+                                   self.sim.channel, action_format, strict)
+        self._team_parser = ActionParser(self.field, profile.command_low, profile.command_high,
+                                         self.sim.channel, "dict", True)
+        if action_format == "dict":
+            act_space = tspaces.dict_action_space(self.field, profile.command_low,
+                                                  profile.command_high,
+                                                  channel_profile.max_chars, channel_profile.charset)
+        else:
+            act_space = tspaces.box_action_space()
+        if observation_format == "dict":
+            obs_space = tspaces.dict_observation_space(n, self.sim.heard_slots,
+                                                       channel_profile.max_chars,
+                                                       channel_profile.charset)
+        else:
+            obs_space = tspaces.box_observation_space(n, self.sim.heard_slots)
+
+        # Teams (plugins) for sides not driven by the caller.
+        self.teams: dict[str, Any] = {}
+        for side, spec, config in (("left", left, left_config), ("right", right, right_config)):
+            if spec is None:
+                if config:
+                    raise ConfigError(f"{side}_config given but no {side} team is named")
+                continue
+            agents = tuple(f"{side}_{k + 1}" for k in range(n))
+            context = TeamContext(side=side, agents=agents, team_size=n, field=self.field,
+                                  cycle_s=self.physics.cycle_s, channel=channel_profile.name,
+                                  observation_mode=observation_mode, seed=0,
+                                  walk_low=tuple(float(v) for v in profile.command_low),
+                                  walk_high=tuple(float(v) for v in profile.command_high),
+                                  kick_reach=float(profile.kick_reach))
+            self.teams[side] = make_team(spec, context, config)
+        self.team_agents = {side: [f"{side}_{k + 1}" for k in range(n)] for side in self.teams}
+        self._team_dict_space = tspaces.dict_observation_space(
+            n, self.sim.heard_slots, channel_profile.max_chars, channel_profile.charset)
+
+        self.possible_agents = [a for a in self.player_names if a.split("_")[0] not in self.teams]
+        self.agents: list[str] = []
+        self._episode_over = True
+        self._action_spaces = {a: act_space for a in self.possible_agents}
+        self._observation_spaces = {a: obs_space for a in self.possible_agents}
+        self._state_space = tspaces.state_space(self.sim.state_size())
+        self._obs_all: list[Any] = []
+        self._team_obs: dict[str, dict[str, Any]] = {}
+        self._renderer: Any = None
+        self.team_time_s = {side: 0.0 for side in self.teams}
+        self.last_report = CycleReport()
+
+    # -- PettingZoo API --------------------------------------------------------------------
+    def observation_space(self, agent: str):
+        return self._observation_spaces[self._check_agent(agent)]
+
+    def action_space(self, agent: str):
+        return self._action_spaces[self._check_agent(agent)]
+
+    @property
+    def state_space(self):
+        return self._state_space
+
+    def reset(self, seed: int | None = None, options: dict | None = None):
+        if options:
+            raise ConfigError(f"reset options: none are supported, got {sorted(options)}")
+        seed_seq = np.random.SeedSequence(seed)
+        env_seq, *team_seqs = seed_seq.spawn(3)
+        self.np_random = np.random.default_rng(env_seq)
+        self.sim.reset(self.np_random)
+        for k, (side, team) in enumerate(self.teams.items()):
+            team_seed = int(team_seqs[k].generate_state(1)[0])
+            self._team_call(side, team.reset, team_seed)
+        self.agents = list(self.possible_agents)
+        self._episode_over = False
+        self.last_report = CycleReport()
+        self._prev_state = self.sim.global_state()
+        self._refresh_observations()
+        observations = self._agent_observations()
+        infos = {a: {} for a in self.agents}
+        return observations, infos
+
+    @property
+    def episode_over(self) -> bool:
+        """True before the first reset and once the match has terminated or been truncated
+        (also when both sides are teams and ``agents`` is always empty)."""
+        return self._episode_over
+
+    def step(self, actions: Mapping[str, Any]):
+        if self._episode_over:
+            raise ActionError("step() called on a finished episode; call reset() first")
+        if not isinstance(actions, Mapping):
+            raise ActionError(f"actions: expected a dict keyed by agent name, got {type(actions)}")
+        dropped: dict[str, list[str]] = {}
+        unknown = [a for a in actions if a not in self._row or a not in self.agents]
+        if unknown:
+            why = ("driven by a team plugin" if any(
+                str(a).split("_")[0] in self.teams for a in unknown) else "not an agent of this env")
+            self._agent_problem(unknown[0], f"unknown agent {unknown[0]!r} ({why}); agents are "
+                                f"{self.agents[:3]}...", dropped)
+        missing = [a for a in self.agents if a not in actions]
+        if missing:
+            self._agent_problem(missing[0], f"agent {missing[0]!r}: no action given (missing "
+                                f"agents: {missing}); lenient mode uses the idle action", dropped)
+        cmd = Commands.idle(self.sim.n)
+        given = [a for a in self.agents if a in actions]
+        self.parser.fill(cmd, [self._row[a] for a in given], given, [actions[a] for a in given],
+                         dropped)
+        for side, team in self.teams.items():
+            self._team_actions(side, team, cmd)
+
+        report = self.sim.step(cmd)
+        self.last_report = report
+        state = self.sim.global_state()
+        self._refresh_observations()
+
+        agents = list(self.agents)
+        rewards = self._rewards(agents, report, state)
+        self._prev_state = state
+        terminated = self.sim.referee.game_over
+        truncated = self.max_cycles is not None and self.sim.cycle >= self.max_cycles
+        observations = self._agent_observations()
+        terminations = {a: terminated for a in agents}
+        truncations = {a: truncated and not terminated for a in agents}
+        infos = self._infos(agents, report, dropped)
+        if terminated or truncated:
+            self.agents = []
+            self._episode_over = True
+        if self.render_mode == "human":
+            self.render()
+        return observations, rewards, terminations, truncations, infos
+
+    def state(self) -> np.ndarray:
+        return self.sim.global_state()
+
+    def render(self):
+        if self.render_mode is None:
+            import gymnasium
+
+            gymnasium.logger.warn("render() called without a render_mode; set render_mode")
+            return None
+        if self._renderer is None:
+            from teamenv.render.pygame_renderer import PygameRenderer
+
+            self._renderer = PygameRenderer(self.field, self.team_size, self.render_mode)
+        return self._renderer.draw(self.sim)
+
+    def close(self) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+
+    # -- internals -------------------------------------------------------------------------
+    def _check_agent(self, agent: str) -> str:
+        if agent not in self._action_spaces:
+            raise ActionError(f"unknown agent {agent!r}; possible agents are {self.possible_agents}")
+        return agent
+
+    def _agent_problem(self, agent: str, message: str, dropped: dict[str, list[str]]) -> None:
+        if self.strict:
+            raise ActionError(message)
+        import warnings
+
+        warnings.warn(message, RuntimeWarning, stacklevel=3)
+        dropped.setdefault(str(agent), []).append(message)
+
+    def _refresh_observations(self) -> None:
+        flat = self.observation_format == "box"
+        if self.teams and flat:
+            team_obs = self.sim.observations(flat=False)
+            self._obs_all = self.sim.observations(flat=True)
+        else:
+            self._obs_all = self.sim.observations(flat=flat)
+            team_obs = self._obs_all
+        self._team_obs = {
+            side: {a: team_obs[self._row[a]] for a in agents}
+            for side, agents in self.team_agents.items()
+        }
+
+    def _agent_observations(self) -> dict[str, Any]:
+        return {a: self._obs_all[self._row[a]] for a in self.agents}
+
+    def _team_call(self, side: str, fn: Callable, *args: Any) -> Any:
+        try:
+            return fn(*args)
+        except Exception as exc:  # a plugin's bug must not look like ours
+            raise TeamFault(side, "raised", f"{type(exc).__name__}: {exc}") from exc
+
+    def _team_actions(self, side: str, team: Any, cmd: Commands) -> None:
+        agents = self.team_agents[side]
+        start = time.perf_counter()
+        actions = self._team_call(side, team.act, self._team_obs[side])
+        elapsed = time.perf_counter() - start
+        self.team_time_s[side] += elapsed
+        if self.team_cycle_budget_s is not None and elapsed > self.team_cycle_budget_s:
+            raise TeamFault(side, "too_slow", f"act() took {elapsed * 1e3:.1f} ms, budget "
+                            f"{self.team_cycle_budget_s * 1e3:.1f} ms")
+        if not isinstance(actions, Mapping):
+            raise TeamFault(side, "invalid_action", f"act() returned {type(actions).__name__}, "
+                            "expected a dict keyed by agent name")
+        extra = [a for a in actions if a not in agents]
+        if extra:
+            raise TeamFault(side, "invalid_action", f"act() returned actions for {extra}, which "
+                            f"it does not drive")
+        given = [a for a in agents if a in actions]
+        try:
+            self._team_parser.fill(cmd, [self._row[a] for a in given], given,
+                                   [actions[a] for a in given], {})
+        except ActionError as exc:
+            raise TeamFault(side, "invalid_action", str(exc)) from exc
+
+    def _rewards(self, agents: list[str], report: CycleReport, state: np.ndarray) -> dict:
+        default = {a: 0.0 for a in agents}
+        for event in report.referee:
+            if event.kind == "goal":
+                scorer = SIDES[event.team]
+                for a in agents:
+                    default[a] += 1.0 if a.startswith(scorer + "_") else -1.0
+        if self.reward_fn is None:
+            return default
+        shaped = self.reward_fn(RewardInput(
+            agents=tuple(agents), report=report, state=state, previous_state=self._prev_state,
+            play_mode=self.sim.referee.mode.name,
+            attack_sign=tuple(self.sim.referee.attack_sign), default=default))
+        missing = [a for a in agents if a not in shaped]
+        if missing:
+            raise ConfigError(f"reward_fn: returned no reward for agents {missing}")
+        return {a: float(shaped[a]) for a in agents}
+
+    def _infos(self, agents: list[str], report: CycleReport, dropped: dict) -> dict:
+        infos: dict[str, dict] = {a: {} for a in agents}
+        names = self.player_names
+        for agent, problems in dropped.items():
+            if agent in infos:
+                infos[agent]["dropped"] = problems
+        for i in report.beams_refused:
+            if names[i] in infos:
+                infos[names[i]]["beam_refused"] = PlayMode(self.sim.referee.mode).name
+        for drop in report.dropped:
+            speaker = names[drop.speaker] if 0 <= drop.speaker < len(names) else None
+            if speaker in infos:
+                infos[speaker].setdefault("message_dropped", []).append(
+                    {"listener": names[drop.listener] if drop.listener >= 0 else None,
+                     "reason": drop.reason})
+        for event in report.referee:
+            if event.kind == "goal":
+                for a in agents:
+                    infos[a]["goal"] = SIDES[event.team]
+        return infos
+
+
+def _choice(name: str, value: Any, allowed: tuple) -> None:
+    if value not in allowed:
+        raise ConfigError(f"{name}: must be one of {list(allowed)}, got {value!r}")
+
+
+def parallel_env(**kwargs: Any) -> SoccerParallelEnv:
+    """Make the ParallelEnv (see ``SoccerParallelEnv`` for every option)."""
+    return SoccerParallelEnv(**kwargs)

@@ -1,0 +1,190 @@
+"""One match's simulation: locomotion -> pymunk -> referee -> say channel, 20 ms per cycle."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
+
+import comms
+import locomotion
+from teamenv.config import PhysicsConfig, RulesConfig
+from teamenv.field import FieldSpec
+from teamenv.sim.perception import HeardSlot, StatePerception
+from teamenv.sim.referee import Referee, RefereeEvent
+from teamenv.sim.world import World, wrap_angle
+
+
+@dataclass
+class Commands:
+    """What every player asks for this cycle (arrays over all 2N players, player order).
+
+    ``walk`` (n,3) body frame (m/s, m/s, rad/s); ``kick_power`` (n,) in [0,1], 0 = no kick;
+    ``kick_dir`` (n,) rad body frame; ``beam_request`` (n,) bool; ``beam`` (n,3) x, y, rot in
+    the player's team frame; ``say`` n strings ("" = silent).
+    """
+
+    walk: np.ndarray
+    kick_power: np.ndarray
+    kick_dir: np.ndarray
+    beam_request: np.ndarray
+    beam: np.ndarray
+    say: list[str]
+
+    @classmethod
+    def idle(cls, n: int) -> Commands:
+        return cls(np.zeros((n, 3)), np.zeros(n), np.zeros(n), np.zeros(n, dtype=bool),
+                   np.zeros((n, 3)), [""] * n)
+
+
+@dataclass
+class CycleReport:
+    """What happened in one cycle, for infos, replays and match summaries."""
+
+    referee: list[RefereeEvent] = field(default_factory=list)
+    kicks: list[tuple[int, float, float]] = field(default_factory=list)  # player, dist, world dir
+    beams: list[int] = field(default_factory=list)
+    beams_refused: list[int] = field(default_factory=list)
+    heard: list[list[comms.Heard]] = field(default_factory=list)
+    dropped: list[comms.Drop] = field(default_factory=list)
+
+
+class Simulation:
+    """The whole world of one match, stepped by arrays of commands. No RL API here."""
+
+    def __init__(self, field_spec: FieldSpec, team_size: int, rules: RulesConfig,
+                 physics: PhysicsConfig, profile: locomotion.Profile, channel: str) -> None:
+        self.field, self.team_size, self.rules, self.physics = field_spec, team_size, rules, physics
+        self.n = 2 * team_size
+        self.profile = profile
+        self.bodies = locomotion.Bodies(profile, self.n)
+        self.world = World(field_spec, physics, self.n, profile.body_radius, profile.mass)
+        self.referee = Referee(field_spec, rules, team_size, physics.cycle_s,
+                               profile.body_radius, physics.ball_radius)
+        self.team_of = np.repeat([0, 1], team_size)
+        self.channel = comms.make_channel(channel, self.n, self.team_of)
+        self.heard_slots = int(self.channel.profile.max_heard)
+        self.perception = StatePerception(team_size, self.heard_slots)
+        self.cycle = 0
+        self.rng = np.random.default_rng(0)
+        self._heard = [HeardSlot(self.heard_slots) for _ in range(self.n)]
+
+    def reset(self, rng: np.random.Generator) -> None:
+        """Start a new match with the env's generator (the only randomness used)."""
+        self.rng = rng
+        self.cycle = 0
+        self.bodies.reset()
+        self.referee.reset()
+        self.channel.reset()
+        self.referee.place_for_start(self.world)
+        self.world.impacts[:] = 0.0
+        self._heard = [HeardSlot(self.heard_slots) for _ in range(self.n)]
+
+    # -- the cycle -------------------------------------------------------------------------
+    def step(self, cmd: Commands) -> CycleReport:
+        report = CycleReport()
+        dt = self.physics.cycle_s
+        poses = self.world.player_poses()
+        self._beam(cmd, poses, report)
+        if report.beams:
+            poses = self.world.player_poses()
+
+        kick_request = cmd.kick_power > 0.0
+        res = self.bodies.step(cmd.walk, kick_request, cmd.kick_power, cmd.kick_dir,
+                               self.world.impacts.copy(), self.rng, dt=dt)
+        delta = np.asarray(res.delta_pose, dtype=float)
+        h = poses[:, 2]
+        cos_h, sin_h = np.cos(h), np.sin(h)
+        velocity = np.empty((self.n, 3))
+        velocity[:, 0] = (cos_h * delta[:, 0] - sin_h * delta[:, 1]) / dt
+        velocity[:, 1] = (sin_h * delta[:, 0] + cos_h * delta[:, 1]) / dt
+        velocity[:, 2] = delta[:, 2] / dt
+
+        touchers = self._kick(res, poses, report)
+        self.world.step(velocity)
+        touchers.extend(self.world.touches)
+
+        report.referee = self.referee.update(self.world, touchers)
+        self._deliver(cmd.say, report)
+        self.cycle += 1
+        return report
+
+    def _beam(self, cmd: Commands, poses: np.ndarray, report: CycleReport) -> None:
+        requested = np.flatnonzero(cmd.beam_request)
+        if requested.size == 0:
+            return
+        if not self.referee.beam_allowed:
+            report.beams_refused.extend(int(i) for i in requested)
+            return
+        noise_xy, noise_rot = self.rules.beam_noise_xy, self.rules.beam_noise_rot
+        for i in requested:
+            sign = self.referee.attack_sign[int(self.team_of[i])]
+            bx, by, rot = cmd.beam[i]
+            x = sign * (bx + self.rng.normal(0.0, noise_xy)) if noise_xy else sign * bx
+            y = sign * (by + self.rng.normal(0.0, noise_xy)) if noise_xy else sign * by
+            heading = rot + (0.0 if sign > 0 else math.pi)
+            if noise_rot:
+                heading += self.rng.normal(0.0, noise_rot)
+            self.world.place_player(int(i), x, y, float(wrap_angle(heading)))
+            report.beams.append(int(i))
+
+    def _kick(self, res: locomotion.StepResult, poses: np.ndarray, report: CycleReport) -> list[int]:
+        kickers = np.flatnonzero(res.kick_now)
+        if kickers.size == 0:
+            return []
+        ball = self.world.ball_state()
+        dist = np.hypot(ball[0] - poses[kickers, 0], ball[1] - poses[kickers, 1])
+        in_reach = dist <= self.profile.kick_reach
+        if not in_reach.any():
+            return []
+        # When several players kick at once, the one closest to the ball gets it.
+        winner = int(kickers[in_reach][np.argmin(dist[in_reach])])
+        direction = float(wrap_angle(poses[winner, 2] + res.kick_direction[winner]))
+        distance = float(res.kick_distance[winner])
+        self.world.kick_ball(distance, direction)
+        report.kicks.append((winner, distance, direction))
+        return [winner]
+
+    def _deliver(self, say: Sequence[str], report: CycleReport) -> None:
+        utterances = [comms.Utterance(i, text) for i, text in enumerate(say) if text]
+        for slot in self._heard:
+            if slot.info[:, 0].any():
+                slot.texts = [""] * self.heard_slots
+                slot.info[:] = 0.0
+        if not utterances:
+            report.heard = [[] for _ in range(self.n)]
+            return
+        poses = self.world.player_poses()
+        delivery = self.channel.deliver(utterances, poses[:, :2], poses[:, 2], self.rng)
+        report.heard = delivery.heard
+        report.dropped = list(delivery.dropped)
+        for listener, heard in enumerate(delivery.heard):
+            slot = self._heard[listener]
+            for k, msg in enumerate(heard[: self.heard_slots]):
+                slot.texts[k] = msg.text
+                slot.info[k] = (1.0, float(msg.is_self), float(msg.teammate), msg.direction)
+
+    # -- observations ----------------------------------------------------------------------
+    def fallen(self) -> np.ndarray:
+        return np.asarray(self.bodies.fallen, dtype=float)
+
+    def observations(self, flat: bool = False) -> list:
+        ref = self.referee
+        return self.perception.observe(
+            self.world.player_poses(), self.world.player_velocities(), self.world.ball_state(),
+            self.fallen(), ref.mode, ref.time_s, ref.half, ref.score, ref.attack_sign,
+            self._heard, flat=flat)
+
+    def global_state(self) -> np.ndarray:
+        """World-frame state for centralized critics: ball (4), then per player x, y, heading,
+        vx, vy, omega, fallen, then play mode, time, half, score left, score right."""
+        ref = self.referee
+        players = np.concatenate([self.world.player_poses(), self.world.player_velocities(),
+                                  self.fallen()[:, None]], axis=1)
+        tail = np.array([int(ref.mode), ref.time_s, ref.half, ref.score[0], ref.score[1]])
+        return np.concatenate([self.world.ball_state(), players.ravel(), tail]).astype(np.float32)
+
+    def state_size(self) -> int:
+        return 4 + self.n * 7 + 5
