@@ -4,6 +4,7 @@ import math
 import operator
 from collections import deque
 from collections.abc import Sequence
+from itertools import repeat
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -19,6 +20,7 @@ REASON_MAX_HEARD = "max_heard"  # more messages than the listener's `max_heard` 
 REASON_INAUDIBLE = "inaudible"  # `mj`: said at volume 0 (listener -1: nobody hears it)
 
 _TWO_PI = 2.0 * math.pi
+_new = tuple.__new__  # builds a NamedTuple from a tuple without the Python-level __new__
 
 
 class Utterance(NamedTuple):
@@ -80,16 +82,13 @@ class Delivery:
     def dropped(self) -> list[Drop]:
         """Every drop of the cycle: illegal messages first, then per-listener drops."""
         if self._pending is not None:
-            speaker_ids, chunks, overflow = self._pending
+            speaker_ids, chunks = self._pending
             self._pending = None
             out = self._dropped
+            make = Drop._make
             for mask, reason in chunks:
                 si, li = np.nonzero(mask)
-                out.extend(
-                    Drop(s, ls, reason)
-                    for s, ls in zip(speaker_ids[si].tolist(), li.tolist(), strict=True)
-                )
-            out.extend(overflow)
+                out.extend(map(make, zip(speaker_ids[si].tolist(), li.tolist(), repeat(reason))))
         return self._dropped
 
     def __repr__(self) -> str:
@@ -362,29 +361,38 @@ class Channel:
         sort_key = np.where(is_self, -1, sort_key)
 
         li, si = np.nonzero(heard.T)
-        keys = sort_key[si, li]
-        order = np.lexsort((keys, li))
-        li = li[order]
-        si = si[order]
+        if li.size:
+            order = np.lexsort((sort_key[si, li], li))
+            li = li[order]
+            si = si[order]
+            counts = np.bincount(li, minlength=n)
+            within = np.arange(li.size) - (np.cumsum(counts) - counts)[li]
+            keep = within < prof.max_heard
+            if not keep.all():
+                over = np.zeros_like(heard)
+                over[si[~keep], li[~keep]] = True
+                chunks.append((over, REASON_MAX_HEARD))
+                li = li[keep]
+                si = si[keep]
         ang = np.arctan2(rel[si, li, 1], rel[si, li, 0]) - hd[li]
         ang = (ang + math.pi) % _TWO_PI - math.pi
         q = prof.direction_quantum_deg
         if q > 0.0:
             ang = np.radians(np.trunc(np.degrees(ang) / q) * q)
-        ang[is_self[si, li]] = 0.0
+        pair_self = is_self[si, li]
+        ang[pair_self] = 0.0
 
         out: list[list[Heard]] = [[] for _ in range(n)]
-        overflow: list[Drop] = []
-        max_heard = prof.max_heard
-        teams = self.teams.tolist()
-        for lst_i, s_i, a in zip(li.tolist(), si.tolist(), ang.tolist(), strict=True):
-            lst = out[lst_i]
-            s = speakers[s_i]
-            if len(lst) >= max_heard:
-                overflow.append(Drop(s, lst_i, REASON_MAX_HEARD))
-                continue
-            lst.append(Heard(s, texts[s_i], a, s == lst_i, teams[s] == teams[lst_i]))
-        return Delivery(out, illegal, (spk, chunks, overflow))
+        for lst_i, s_i, a, me, mate in zip(
+            li.tolist(),
+            si.tolist(),
+            ang.tolist(),
+            pair_self.tolist(),
+            same[si, li].tolist(),
+            strict=True,
+        ):
+            out[lst_i].append(_new(Heard, (speakers[s_i], texts[s_i], a, me, mate)))
+        return Delivery(out, illegal, (spk, chunks))
 
 
 def make_channel(
