@@ -1,0 +1,309 @@
+"""Vectorised walk/kick/fall state of all players: ``Bodies.step`` runs once per env cycle."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import StepInputError
+from .profile import Profile
+from .walk import apply_envelope, compose, omni_displacement, track
+
+__all__ = ["Bodies", "StepResult"]
+
+_EPS = 1e-9
+
+
+@dataclass(frozen=True)
+class StepResult:
+    """What the bodies did during one cycle (arrays of length n, body frame at cycle start).
+
+    Attributes:
+        delta_pose: (n, 3) true displacement (dx m, dy m, dpsi rad) over dt, seed 001 eq. 4.
+        velocity: (n, 3) body-frame velocity at the end of the cycle (m/s, m/s, rad/s).
+        odometry: (n, 3) displacement the walking engine *believes* it made (slip, noise).
+        kick_now: (n,) bool, a kick's foot-ball contact happens this cycle.
+        kick_distance: (n,) metres the ball should roll (spread applied; 0 where no kick).
+        kick_direction: (n,) rad, body frame, direction of the kicked ball (spread applied).
+        fallen: (n,) bool, falling, lying or getting up at the end of the cycle.
+        can_act: (n,) bool, walk and kick commands are accepted next cycle.
+        fell: (n,) bool, a fall started this cycle.
+    """
+
+    delta_pose: np.ndarray
+    velocity: np.ndarray
+    odometry: np.ndarray
+    kick_now: np.ndarray
+    kick_distance: np.ndarray
+    kick_direction: np.ndarray
+    fallen: np.ndarray
+    can_act: np.ndarray
+    fell: np.ndarray
+
+
+class Bodies:
+    """Locomotion state of ``n_players`` humanoids sharing one :class:`Profile`.
+
+    Model (all per player, vectorised, documented in ``docs/readme/locomotion.md``):
+
+    * **Walk.** The body moves at a velocity held constant during a step of period
+      ``T = profile.step_period`` and displaces exactly as seed 001 eq. 4 says. At each step
+      boundary the latest command is mapped through the measured tracking curves, limited by
+      the combined envelope, then moved towards by at most ``accel * T`` per axis (and the
+      envelope is applied again). A player standing still starts its first step at once.
+    * **Falls.** (i) a collision impulse ``J`` (N*s) topples with probability
+      ``clip((J - J_lo) / (J_hi - J_lo), 0, 1)``, ``J_lo/J_hi`` = mass x weakest/strongest push
+      speed; (ii) a push (:meth:`push`, body-frame velocity change) topples when it exceeds
+      the direction-dependent push threshold (an ellipse through the forward, backward and
+      side thresholds); (iii) a change demanded at a step boundary larger than
+      ``command_jump_threshold`` (envelope-normalised units) topples with probability
+      ``command_jump_fall_probability``. A fallen player is still for ``fall_duration +
+      getup_duration`` seconds and cannot act; a kick in progress is cancelled.
+    * **Kicks.** A request with power > 0 from a player that can act starts the kick; the
+      player stands still for ``kick_duration``; contact happens ``kick_prep_time`` after the
+      request. Distance = power x truncated normal(mean, std) in [min, max]; direction =
+      aim + normal(0, ``profile.kick_direction_std``).
+    * **Odometry.** ``odometry = delta_pose * odometry_scale * (1 + odometry_noise * N(0,1))``
+      per channel (seed 000 eqs. 2-3: the engine over-reports when the feet slip).
+
+    Randomness comes only from the ``rng`` passed to :meth:`step`.
+    """
+
+    def __init__(self, profile: Profile, n_players: int) -> None:
+        """Args: profile: validated robot profile; n_players: number of bodies (>= 1)."""
+        if not isinstance(profile, Profile):
+            raise StepInputError("profile", type(profile).__name__, "must be a locomotion.Profile")
+        if isinstance(n_players, bool) or not isinstance(n_players, (int, np.integer)) or n_players < 1:
+            raise StepInputError("n_players", n_players, "must be a positive integer")
+        self.profile = profile
+        self.n = int(n_players)
+        p = profile
+        self._T = float(p.step_period)
+        self._env = (p.envelope_vx_forward, p.envelope_vx_backward, p.envelope_vy,
+                     p.envelope_turn, p.envelope_exponent)
+        self._dv = np.asarray(p.accel) * self._T  # max velocity change per step
+        self._lim_fwd = np.array([p.envelope_vx_forward, p.envelope_vy, p.envelope_turn])
+        self._lim_back = np.array([p.envelope_vx_backward, p.envelope_vy, p.envelope_turn])
+        self._j_lo = p.impact_fall_impulse_low
+        self._j_hi = p.impact_fall_impulse_high
+        self._down_time = p.fall_duration + p.getup_duration
+        self._kick_sigma = p.kick_direction_std
+        self._odo_scale = np.asarray(p.odometry_scale, dtype=np.float64)
+        self._odo_noise = np.asarray(p.odometry_noise, dtype=np.float64)
+        self._odo_noisy = bool(np.any(self._odo_noise > 0))
+        self.reset()
+
+    # ------------------------------------------------------------------ state
+    def reset(self) -> None:
+        """All players standing, still, able to act, at the start of a step."""
+        n = self.n
+        self.velocity = np.zeros((n, 3))
+        self.phase = np.full(n, self._T)  # time since the last step boundary (s)
+        self.down_left = np.zeros(n)  # remaining fallen + get-up time (s)
+        self.kick_elapsed = np.full(n, -1.0)  # time since kick start (s); < 0: no kick
+        self.kick_power = np.zeros(n)
+        self.kick_aim = np.zeros(n)
+        self._push = np.zeros((n, 2))
+        self._pushed = False
+        self._n_down = 0
+        self._n_kicking = 0
+        self._cache = np.zeros((n, 3))
+        self._cache_dt = -1.0
+        self._all_true = np.ones(n, dtype=bool)
+        self._all_false = np.zeros(n, dtype=bool)
+        self._all_true.setflags(write=False)
+        self._all_false.setflags(write=False)
+
+    @property
+    def fallen(self) -> np.ndarray:
+        """(n,) bool: falling, lying or getting up."""
+        return self.down_left > 0.0
+
+    @property
+    def kicking(self) -> np.ndarray:
+        """(n,) bool: a kick motion is in progress."""
+        return self.kick_elapsed >= 0.0
+
+    @property
+    def can_act(self) -> np.ndarray:
+        """(n,) bool: neither fallen nor kicking."""
+        return (self.down_left <= 0.0) & (self.kick_elapsed < 0.0)
+
+    def push(self, index: int | np.ndarray, dv: np.ndarray) -> None:
+        """Queue a push: a body-frame velocity change (m/s, shape (2,) or (k, 2)) to ``index``.
+
+        It is evaluated against the direction-dependent push thresholds in the next
+        :meth:`step`; pushes queued for one player in one cycle add up.
+        """
+        dv = np.asarray(dv, dtype=np.float64)
+        idx = np.atleast_1d(np.asarray(index))
+        if dv.shape[-1:] != (2,) or not np.all(np.isfinite(dv)):
+            raise StepInputError("dv", dv.tolist(), "must be finite with shape (2,) or (k, 2)")
+        if idx.size and (idx.min() < 0 or idx.max() >= self.n):
+            raise StepInputError("index", idx.tolist(), f"must lie in [0, {self.n})")
+        np.add.at(self._push, idx, np.broadcast_to(dv, (idx.size, 2)))
+        self._pushed = True
+
+    def push_threshold(self, direction: np.ndarray) -> np.ndarray:
+        """Push speed (m/s) that topples a standing body pushed towards ``direction`` (rad,
+        body frame): an ellipse per half-plane through the forward/backward/side thresholds."""
+        p = self.profile
+        c = np.cos(direction)
+        s = np.sin(direction)
+        ax = np.where(c >= 0.0, p.push_fall_speed_forward, p.push_fall_speed_backward)
+        return 1.0 / np.sqrt((c / ax) ** 2 + (s / p.push_fall_speed_side) ** 2)
+
+    # ------------------------------------------------------------------ step
+    def step(
+        self,
+        walk_cmd: np.ndarray,
+        kick_request: np.ndarray,
+        kick_power: np.ndarray,
+        kick_dir: np.ndarray,
+        impacts: np.ndarray,
+        rng: np.random.Generator,
+        dt: float = 0.02,
+    ) -> StepResult:
+        """Advance every body by ``dt`` seconds (0 < dt <= step_period).
+
+        Args:
+            walk_cmd: (n, 3) body-frame command (vx m/s, vy m/s, vturn rad/s).
+            kick_request: (n,) bool; a kick starts where True, power > 0 and the player can act.
+            kick_power: (n,) in [0, 1]; kick_dir: (n,) aim (rad, body frame).
+            impacts: (n,) collision impulse magnitude (N*s) taken during the last cycle.
+            rng: the env's numpy Generator (the only source of randomness).
+            dt: cycle length (s).
+        """
+        n = self.n
+        walk_cmd = np.asarray(walk_cmd, dtype=np.float64)
+        if walk_cmd.shape != (n, 3):
+            raise StepInputError("walk_cmd", walk_cmd.shape, f"must have shape ({n}, 3)")
+        kick_request = np.asarray(kick_request, dtype=bool)
+        kick_power = np.asarray(kick_power, dtype=np.float64)
+        kick_dir = np.asarray(kick_dir, dtype=np.float64)
+        impacts = np.asarray(impacts, dtype=np.float64)
+        for name, arr in (("kick_request", kick_request), ("kick_power", kick_power),
+                          ("kick_dir", kick_dir), ("impacts", impacts)):
+            if arr.shape != (n,):
+                raise StepInputError(name, arr.shape, f"must have shape ({n},)")
+        T = self._T
+        if not 0.0 < dt <= T + _EPS:
+            raise StepInputError("dt", dt, f"must lie in (0, step_period = {T}] s")
+
+        any_down = self._n_down > 0
+        up = self.down_left <= 0.0 if any_down else self._all_true
+        # ---- falls from collisions and pushes (decided at the start of the cycle)
+        fell = self._all_false
+        hit = impacts > self._j_lo
+        if hit.any():
+            prob = np.clip((impacts - self._j_lo) / max(self._j_hi - self._j_lo, _EPS), 0.0, 1.0)
+            fell = fell | (hit & up & (rng.random(n) < prob))
+        if self._pushed:
+            spd = np.hypot(self._push[:, 0], self._push[:, 1])
+            thr = self.push_threshold(np.arctan2(self._push[:, 1], self._push[:, 0]))
+            fell = fell | (up & (spd >= thr) & (spd > 0.0))
+            self._push[:] = 0.0
+            self._pushed = False
+
+        # ---- kicks start
+        kicking = self._all_false
+        if kick_request.any() or self._n_kicking:
+            can_act = up & ~fell & (self.kick_elapsed < 0.0)
+            start = can_act & kick_request & (kick_power > 0.0)
+            if start.any():
+                self.kick_elapsed[start] = 0.0
+                self.kick_power[start] = np.clip(kick_power[start], 0.0, 1.0)
+                self.kick_aim[start] = kick_dir[start]
+            kicking = self.kick_elapsed >= 0.0
+        walking = up & ~fell & ~kicking
+
+        # ---- walk: constant velocity within a step, eq. 4, switch at step boundaries
+        vel = self.velocity
+        phase = self.phase
+        boundary = walking & (phase + dt >= T - _EPS)
+        if boundary.any():
+            tb = np.where(boundary, np.maximum(T - phase, 0.0), dt)
+            d1 = omni_displacement(vel, tb)
+            target = apply_envelope(track(walk_cmd, self.profile.tracking), *self._env)
+            change = target - vel
+            lim = np.where(change[:, :1] >= 0.0, self._lim_fwd, self._lim_back)
+            jump = np.sqrt(np.sum((change / lim) ** 2, axis=1))
+            risky = boundary & (jump > self.profile.command_jump_threshold)
+            if risky.any():
+                fell = fell | (risky & (rng.random(n) < self.profile.command_jump_fall_probability))
+            new_vel = apply_envelope(vel + np.clip(change, -self._dv, self._dv), *self._env)
+            vel = np.where(boundary[:, None], new_vel, vel)
+            d2 = omni_displacement(vel, dt - tb)
+            delta = compose(d1, d2)
+            phase = np.where(boundary, np.maximum(phase + dt - T, 0.0), phase + dt)
+            self._cache_dt = -1.0
+        else:
+            if dt != self._cache_dt:
+                self._cache = omni_displacement(vel, dt)
+                self._cache_dt = dt
+            delta = self._cache.copy()
+            phase = phase + dt
+        if fell.any() or any_down or self._n_kicking or kicking is not self._all_false:
+            moving = walking & ~fell
+            delta *= moving[:, None]
+            if not moving.all():
+                vel = vel * moving[:, None]
+                self._cache_dt = -1.0
+            # bodies that cannot walk wait at a step boundary: their first step starts at once
+            phase = np.where(moving, phase, T)
+        self.phase = phase
+        self.velocity = vel
+
+        # ---- falls take effect
+        if fell.any():
+            self.down_left[fell] = self._down_time
+            self.kick_elapsed[fell] = -1.0
+            kicking = kicking & ~fell
+
+        # ---- kick contact and end
+        kick_now = np.zeros(n, dtype=bool)
+        kick_distance = np.zeros(n)
+        kick_direction = np.zeros(n)
+        if kicking.any():
+            p = self.profile
+            e0 = self.kick_elapsed
+            prep = p.kick_prep_time
+            kick_now = kicking & (e0 <= prep + _EPS) & (e0 + dt > prep + _EPS)
+            if prep <= _EPS:
+                kick_now = kicking & (e0 <= _EPS)
+            if kick_now.any():
+                k = int(kick_now.sum())
+                dist = rng.normal(p.kick_distance_mean, p.kick_distance_std, k)
+                dist = np.clip(dist, p.kick_distance_min, p.kick_distance_max)
+                kick_distance[kick_now] = self.kick_power[kick_now] * dist
+                kick_direction[kick_now] = self.kick_aim[kick_now] + rng.normal(0.0, self._kick_sigma, k)
+            e1 = np.where(kicking, e0 + dt, -1.0)
+            e1[e1 >= p.kick_duration - _EPS] = -1.0
+            self.kick_elapsed = e1
+        self._n_kicking = int(np.count_nonzero(self.kick_elapsed >= 0.0)) if kicking.any() else 0
+
+        # ---- odometry
+        odometry = delta * self._odo_scale
+        if self._odo_noisy:
+            odometry *= 1.0 + self._odo_noise * rng.standard_normal((n, 3))
+
+        if any_down or fell.any():
+            left = self.down_left - dt * (~fell)
+            self.down_left = np.where(left > _EPS, left, 0.0)
+            fallen = self.down_left > 0.0
+            self._n_down = int(np.count_nonzero(fallen))
+        else:
+            fallen = self._all_false
+        kicking_after = self.kick_elapsed >= 0.0 if self._n_kicking else self._all_false
+        return StepResult(
+            delta_pose=delta,
+            velocity=vel.copy(),
+            odometry=odometry,
+            kick_now=kick_now,
+            kick_distance=kick_distance,
+            kick_direction=kick_direction,
+            fallen=fallen.copy(),
+            can_act=~(fallen | kicking_after),
+            fell=fell.copy(),
+        )
