@@ -194,6 +194,7 @@ class SoccerParallelEnv(ParallelEnv):
         self._renderer: Any = None
         self.team_time_s = {side: 0.0 for side in self.teams}
         self.last_report = CycleReport()
+        self.acting_side: str | None = None
 
     # -- PettingZoo API --------------------------------------------------------------------
     def observation_space(self, agent: str):
@@ -207,8 +208,9 @@ class SoccerParallelEnv(ParallelEnv):
         return self._state_space
 
     def reset(self, seed: int | None = None, options: dict | None = None):
-        if options:
-            raise ConfigError(f"reset options: none are supported, got {sorted(options)}")
+        """Start a match. ``options`` is accepted for the PettingZoo API and not used: every
+        setting of the env is a constructor argument (checked there)."""
+        del options
         seed_seq = np.random.SeedSequence(seed)
         env_seq, *team_seqs = seed_seq.spawn(3)
         self.np_random = np.random.default_rng(env_seq)
@@ -333,9 +335,11 @@ class SoccerParallelEnv(ParallelEnv):
 
     def _team_actions(self, side: str, team: Any, cmd: Commands) -> None:
         agents = self.team_agents[side]
+        self.acting_side = side
         start = time.perf_counter()
         actions = self._team_call(side, team.act, self._team_obs[side])
         elapsed = time.perf_counter() - start
+        self.acting_side = None
         self.team_time_s[side] += elapsed
         if self.team_cycle_budget_s is not None and elapsed > self.team_cycle_budget_s:
             raise TeamFault(side, "too_slow", f"act() took {elapsed * 1e3:.1f} ms, budget "

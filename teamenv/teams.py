@@ -114,3 +114,18 @@ def make_team(name: str, context: TeamContext, config: Mapping[str, Any] | None 
     if not (callable(getattr(team, "act", None)) and callable(getattr(team, "reset", None))):
         raise TeamLoadError(f"team {name!r}: {cls!r} has no act()/reset() methods")
     return team
+
+
+def team_version(name: str) -> str:
+    """A version string for a team spec: its distribution's version for a registered team,
+    the module's ``__version__`` for ``module:Class``, else "unknown"."""
+    for ep in entry_points(group=ENTRY_POINT_GROUP):
+        if ep.name == name:
+            dist = getattr(ep, "dist", None)
+            return f"{dist.name} {dist.version}" if dist is not None else "unknown"
+    module_name = name.partition(":")[0]
+    try:
+        module = importlib.import_module(module_name)
+    except ImportError:
+        return "unknown"
+    return str(getattr(module, "__version__", "unknown"))

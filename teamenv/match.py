@@ -1,0 +1,199 @@
+"""Play one match between two team plugins and summarise it (score, goals, faults, timing)."""
+
+from __future__ import annotations
+
+import json
+import signal
+import threading
+import time
+from contextlib import contextmanager
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any, Iterator, Mapping
+
+from teamenv.config import RulesConfig
+from teamenv.env import SIDES, SoccerParallelEnv
+from teamenv.errors import ConfigError, TeamFault
+from teamenv.replay import ReplayRecorder
+from teamenv.teams import team_version
+
+FORFEIT_SCORE = 3  # goals awarded to the opponent of a team that forfeits
+
+
+@dataclass(frozen=True)
+class MatchOptions:
+    """How a match is played (field preset, team size, half length in seconds, ...)."""
+
+    field: str = "simspark"
+    team_size: int | None = None
+    half_time_s: float = 300.0
+    halves: int = 2
+    observation_mode: str = "state"
+    channel: str = "simspark"
+    locomotion_profile: str = "t1_mj"
+
+    @classmethod
+    def from_dict(cls, values: Mapping[str, Any]) -> MatchOptions:
+        known = set(cls.__dataclass_fields__)
+        unknown = sorted(set(values) - known)
+        if unknown:
+            raise ConfigError(f"match options: unknown key(s) {unknown}; known: {sorted(known)}")
+        return cls(**dict(values))
+
+
+@dataclass(frozen=True)
+class Goal:
+    time_s: float
+    side: str  # the side credited with the goal
+    scorer_side: str | None  # side of the last player to touch the ball (differs for own goals)
+    scorer_unum: int | None
+
+
+@dataclass(frozen=True)
+class Forfeit:
+    side: str
+    reason: str  # "raised", "invalid_action", "too_slow", "stalled"
+    detail: str
+    time_s: float
+
+
+@dataclass(frozen=True)
+class MatchResult:
+    seed: int
+    left: str
+    right: str
+    score: tuple[int, int]
+    goals: tuple[Goal, ...]
+    cycles: int
+    wall_s: float
+    forfeit: Forfeit | None = None
+    team_versions: tuple[str, str] = ("unknown", "unknown")
+    team_time_s: tuple[float, float] = (0.0, 0.0)
+    options: MatchOptions = field(default_factory=MatchOptions)
+
+    @property
+    def official_score(self) -> tuple[int, int]:
+        """The score that counts: a forfeiting team loses 0-3 (or by its real margin if worse)."""
+        if self.forfeit is None:
+            return self.score
+        left, right = self.score
+        if self.forfeit.side == "left":
+            return 0, max(FORFEIT_SCORE, right - left)
+        return max(FORFEIT_SCORE, left - right), 0
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+    def summary(self) -> str:
+        left, right = self.score
+        lines = [f"{self.left} {left} - {right} {self.right}   (seed {self.seed}, "
+                 f"{self.cycles} cycles, {self.wall_s:.1f} s wall, "
+                 f"{self.cycles / max(self.wall_s, 1e-9):.0f} cycles/s)"]
+        for g in self.goals:
+            who = f"{g.scorer_side}_{g.scorer_unum}" if g.scorer_unum else "unknown"
+            own = " (own goal)" if g.scorer_side and g.scorer_side != g.side else ""
+            lines.append(f"  {g.time_s:7.2f} s  goal {g.side}: {who}{own}")
+        if self.forfeit:
+            lines.append(f"  FORFEIT {self.forfeit.side} at {self.forfeit.time_s:.2f} s: "
+                         f"{self.forfeit.reason}: {self.forfeit.detail}")
+        return "\n".join(lines)
+
+
+class _Stalled(BaseException):
+    """Raised inside a team's act() by the stall watchdog (BaseException: teams can't eat it)."""
+
+
+@contextmanager
+def _stall_watchdog(seconds: float | None) -> Iterator[None]:
+    """Interrupt a cycle that runs longer than ``seconds`` (main thread, POSIX only)."""
+    usable = seconds is not None and hasattr(signal, "setitimer") and \
+        threading.current_thread() is threading.main_thread()
+    if not usable:
+        yield
+        return
+
+    def _fire(signum: int, frame: Any) -> None:
+        raise _Stalled()
+
+    previous = signal.signal(signal.SIGALRM, _fire)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0.0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+def play_match(
+    left: str, right: str, seed: int, options: MatchOptions | Mapping[str, Any] | None = None,
+    left_config: Mapping[str, Any] | None = None, right_config: Mapping[str, Any] | None = None,
+    cycle_time_budget_s: float | None = None, stall_timeout_s: float | None = 10.0,
+    replay_path: str | Path | None = None,
+) -> MatchResult:
+    """Play a whole match; never raises for a team's fault (the team forfeits instead).
+
+    ``cycle_time_budget_s``: a team whose act() takes longer in any cycle forfeits.
+    ``stall_timeout_s``: a cycle that has not finished after this long is interrupted and the
+    team that was acting forfeits ("stalled"); None disables the watchdog.
+    ``replay_path``: write a replay (.npz) of the match there.
+    """
+    if options is None:
+        options = MatchOptions()
+    elif not isinstance(options, MatchOptions):
+        options = MatchOptions.from_dict(options)
+    rules = RulesConfig(half_time_s=options.half_time_s, halves=options.halves)
+    start = time.perf_counter()
+    env = SoccerParallelEnv(
+        field=options.field, team_size=options.team_size, left=left, right=right,
+        left_config=left_config, right_config=right_config, rules=rules,
+        observation_mode=options.observation_mode, channel=options.channel,
+        locomotion_profile=options.locomotion_profile, team_cycle_budget_s=cycle_time_budget_s)
+    recorder = ReplayRecorder(env) if replay_path is not None else None
+    forfeit: Forfeit | None = None
+    goals: list[Goal] = []
+    with _stall_watchdog(stall_timeout_s):
+        try:
+            env.reset(seed=seed)
+            if recorder:
+                recorder.record()
+            while not env.episode_over:
+                if stall_timeout_s is not None and hasattr(signal, "setitimer") and \
+                        threading.current_thread() is threading.main_thread():
+                    signal.setitimer(signal.ITIMER_REAL, stall_timeout_s)
+                env.step({})
+                for event in env.last_report.referee:
+                    if event.kind == "goal":
+                        goals.append(_goal(env, event))
+                if recorder:
+                    recorder.record()
+        except TeamFault as fault:
+            forfeit = Forfeit(fault.side, fault.reason, fault.detail, env.sim.referee.time_s)
+        except _Stalled:
+            side = _acting_side(env)
+            forfeit = Forfeit(side, "stalled", f"a cycle ran over {stall_timeout_s} s",
+                              env.sim.referee.time_s)
+    wall = time.perf_counter() - start
+    result = MatchResult(
+        seed=seed, left=left, right=right, score=tuple(env.sim.referee.score), goals=tuple(goals),
+        cycles=env.sim.cycle, wall_s=wall, forfeit=forfeit,
+        team_versions=(team_version(left), team_version(right)),
+        team_time_s=(env.team_time_s.get("left", 0.0), env.team_time_s.get("right", 0.0)),
+        options=options)
+    if recorder:
+        recorder.save(replay_path, metadata={
+            "left": left, "right": right, "seed": seed, "options": asdict(options),
+            "left_config": dict(left_config or {}), "right_config": dict(right_config or {}),
+            "result": json.loads(json.dumps(result.to_dict(), default=str))})
+    env.close()
+    return result
+
+
+def _goal(env: SoccerParallelEnv, event: Any) -> Goal:
+    scorer_side = scorer_unum = None
+    if event.player is not None:
+        scorer_side = SIDES[event.player // env.team_size]
+        scorer_unum = event.player % env.team_size + 1
+    return Goal(event.time_s, SIDES[event.team], scorer_side, scorer_unum)
+
+
+def _acting_side(env: SoccerParallelEnv) -> str:
+    return getattr(env, "acting_side", None) or "left"
