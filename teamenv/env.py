@@ -153,14 +153,11 @@ class SoccerParallelEnv(ParallelEnv):
                                          self.sim.channel, "dict", True)
         if action_format == "dict":
             act_space = tspaces.dict_action_space(self.field, profile.command_low,
-                                                  profile.command_high,
-                                                  channel_profile.max_chars, channel_profile.charset)
+                                                  profile.command_high, channel_profile)
         else:
             act_space = tspaces.box_action_space()
         if observation_format == "dict":
-            obs_space = tspaces.dict_observation_space(n, self.sim.heard_slots,
-                                                       channel_profile.max_chars,
-                                                       channel_profile.charset)
+            obs_space = tspaces.dict_observation_space(n, self.sim.heard_slots, channel_profile)
         else:
             obs_space = tspaces.box_observation_space(n, self.sim.heard_slots)
 
@@ -180,8 +177,6 @@ class SoccerParallelEnv(ParallelEnv):
                                   kick_reach=float(profile.kick_reach))
             self.teams[side] = make_team(spec, context, config)
         self.team_agents = {side: [f"{side}_{k + 1}" for k in range(n)] for side in self.teams}
-        self._team_dict_space = tspaces.dict_observation_space(
-            n, self.sim.heard_slots, channel_profile.max_chars, channel_profile.charset)
 
         self.possible_agents = [a for a in self.player_names if a.split("_")[0] not in self.teams]
         self.agents: list[str] = []

@@ -2,7 +2,11 @@
 
 from __future__ import annotations
 
+import base64
+import binascii
 import math
+import string
+from typing import Any
 
 import numpy as np
 from gymnasium import spaces
@@ -14,12 +18,43 @@ from teamenv.sim.perception import (
 )
 
 
+class Base64Text(spaces.Text):
+    """Text that is the padded base64 of at most ``payload_bytes`` bytes (the ``mj`` channel's
+    say payload); ``sample`` draws random payloads, ``contains`` checks the encoding too."""
+
+    def __init__(self, payload_bytes: int, seed: int | None = None) -> None:
+        self.payload_bytes = payload_bytes
+        max_length = 4 * math.ceil(payload_bytes / 3)
+        super().__init__(max_length=max_length, min_length=0,
+                         charset=string.ascii_letters + string.digits + "+/=", seed=seed)
+
+    def sample(self, mask: Any = None, probability: Any = None) -> str:
+        n = int(self.np_random.integers(0, self.payload_bytes + 1))
+        return base64.b64encode(self.np_random.bytes(n)).decode("ascii")
+
+    def contains(self, x: Any) -> bool:
+        if not super().contains(x):
+            return False
+        try:
+            return len(base64.b64decode(x, validate=True)) <= self.payload_bytes
+        except (binascii.Error, ValueError):
+            return False
+
+
+def say_space(channel_profile: Any) -> spaces.Text:
+    """The ``say`` space of a channel profile: legal characters and length (base64 for mj)."""
+    if getattr(channel_profile, "base64_payload", False):
+        return Base64Text(int(channel_profile.payload_bytes))
+    return spaces.Text(max_length=channel_profile.max_chars, min_length=0,
+                       charset=channel_profile.charset)
+
+
 def _box(shape: tuple[int, ...], low: float = -np.inf, high: float = np.inf) -> spaces.Box:
     return spaces.Box(low=low, high=high, shape=shape, dtype=np.float32)
 
 
 def dict_action_space(field: FieldSpec, command_low: np.ndarray, command_high: np.ndarray,
-                      max_chars: int, charset: str) -> spaces.Dict:
+                      channel_profile: Any) -> spaces.Dict:
     """walk (vx, vy, vturn), kick (power, direction), beam (x, y, rot), beam_request, say."""
     return spaces.Dict({
         "walk": spaces.Box(np.asarray(command_low, np.float32), np.asarray(command_high, np.float32),
@@ -29,7 +64,7 @@ def dict_action_space(field: FieldSpec, command_low: np.ndarray, command_high: n
         "beam": spaces.Box(np.array([-field.half_length, -field.half_width, -math.pi], np.float32),
                            np.array([0.0, field.half_width, math.pi], np.float32), dtype=np.float32),
         "beam_request": spaces.Discrete(2),
-        "say": spaces.Text(max_length=max_chars, min_length=0, charset=charset),
+        "say": say_space(channel_profile),
     })
 
 
@@ -38,9 +73,8 @@ def box_action_space() -> spaces.Box:
     return spaces.Box(-1.0, 1.0, shape=(BOX_SIZE,), dtype=np.float32)
 
 
-def dict_observation_space(team_size: int, heard_slots: int, max_chars: int,
-                           charset: str) -> spaces.Dict:
-    text = spaces.Text(max_length=max_chars, min_length=0, charset=charset)
+def dict_observation_space(team_size: int, heard_slots: int, channel_profile: Any) -> spaces.Dict:
+    text = say_space(channel_profile)
     return spaces.Dict({
         "self": _box((SELF_DIM,)),
         "ball": _box((BALL_DIM,)),

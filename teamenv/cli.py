@@ -1,0 +1,115 @@
+"""The ``teamenv`` command line: play a match, render a replay, list teams (and tournaments)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+from typing import Sequence
+
+from teamenv.errors import TeamEnvError
+
+
+def _add_match(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("match", help="play one match between two teams and print the result")
+    p.add_argument("left", help="left team: a registered name (see `teamenv teams`) or module:Class")
+    p.add_argument("right", help="right team")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--field", default="simspark", help="simspark | mj7v7 | fifa")
+    p.add_argument("--team-size", type=int, default=None, help="players per side (1-11)")
+    p.add_argument("--half-time", type=float, default=300.0, help="length of a half (s)")
+    p.add_argument("--halves", type=int, default=2)
+    p.add_argument("--channel", default="simspark", help="say channel: simspark | mj")
+    p.add_argument("--left-config", default="{}", help="JSON dict of the left team's config")
+    p.add_argument("--right-config", default="{}", help="JSON dict of the right team's config")
+    p.add_argument("--replay", type=Path, help="save a replay (.npz) here")
+    p.add_argument("--gif", type=Path, help="render the match to a GIF/MP4 (needs [render])")
+    p.add_argument("--gif-every", type=int, default=10, help="render every k-th cycle")
+    p.add_argument("--json", action="store_true", help="print the result as JSON")
+    p.set_defaults(func=_run_match)
+
+
+def _run_match(args: argparse.Namespace) -> int:
+    from teamenv.match import MatchOptions, play_match
+
+    options = MatchOptions(field=args.field, team_size=args.team_size, half_time_s=args.half_time,
+                           halves=args.halves, channel=args.channel)
+    replay_path = args.replay
+    if args.gif and replay_path is None:
+        replay_path = args.gif.with_suffix(".npz")
+    result = play_match(args.left, args.right, args.seed, options,
+                        left_config=_json_dict(args.left_config, "--left-config"),
+                        right_config=_json_dict(args.right_config, "--right-config"),
+                        replay_path=replay_path)
+    if args.json:
+        print(json.dumps(result.to_dict(), default=str, indent=2))
+    else:
+        print(result.summary())
+    if replay_path:
+        print(f"replay: {replay_path}")
+    if args.gif:
+        from teamenv.render import render_replay_gif
+
+        print(f"video: {render_replay_gif(replay_path, args.gif, every=args.gif_every)}")
+    return 0
+
+
+def _add_render(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("render", help="render a replay file to a GIF/MP4 (needs [render])")
+    p.add_argument("replay", type=Path)
+    p.add_argument("out", type=Path)
+    p.add_argument("--every", type=int, default=10)
+    p.add_argument("--fps", type=int, default=10)
+    p.set_defaults(func=lambda a: print(
+        __import__("teamenv.render", fromlist=["x"]).render_replay_gif(
+            a.replay, a.out, fps=a.fps, every=a.every)) or 0)
+
+
+def _add_teams(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("teams", help="list the registered teams (entry points teamenv.teams)")
+    p.set_defaults(func=_list_teams)
+
+
+def _list_teams(args: argparse.Namespace) -> int:
+    from teamenv.teams import registered_teams
+
+    for name, target in sorted(registered_teams().items()):
+        print(f"{name:20s} {target}")
+    return 0
+
+
+def _json_dict(text: str, flag: str) -> dict:
+    try:
+        value = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise TeamEnvError(f"{flag}: not valid JSON ({exc}): {text!r}") from exc
+    if not isinstance(value, dict):
+        raise TeamEnvError(f"{flag}: expected a JSON object, got {text!r}")
+    return value
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="teamenv", description=__doc__)
+    sub = parser.add_subparsers(dest="command", required=True)
+    _add_match(sub)
+    _add_render(sub)
+    _add_teams(sub)
+    try:
+        from teamenv.tournament.cli import add_tournament_commands
+    except ImportError:
+        pass
+    else:
+        add_tournament_commands(sub)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return int(args.func(args) or 0)
+    except TeamEnvError as exc:
+        print(f"teamenv: error: {exc}", file=sys.stderr)
+        return 2
+

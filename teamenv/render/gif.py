@@ -1,0 +1,39 @@
+"""Render a replay to an animated GIF (or MP4 when imageio's ffmpeg plugin is installed)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from teamenv.errors import MissingExtraError
+from teamenv.field import field_preset
+from teamenv.replay import Replay, load_replay
+
+
+def render_replay_gif(replay: Replay | str | Path, out_path: str | Path, fps: int = 10,
+                      every: int = 5, start: int = 0, stop: int | None = None,
+                      width_px: int = 480) -> Path:
+    """Write every ``every``-th cycle of ``replay`` between ``start`` and ``stop`` to
+    ``out_path`` at ``fps`` frames per second; returns the path."""
+    from teamenv.render.pygame_renderer import PygameRenderer
+
+    try:
+        import imageio.v2 as imageio
+    except ImportError as exc:
+        raise MissingExtraError("render", "imageio", "writing GIF/video") from exc
+    if not isinstance(replay, Replay):
+        replay = load_replay(replay)
+    renderer = PygameRenderer(field_preset(replay.metadata["field"]), replay.team_size,
+                              "rgb_array", width_px=width_px)
+    frames = [
+        renderer.draw_frame(replay.ball[t], replay.players[t], int(replay.play_mode[t]),
+                            replay.score[t], float(replay.time_s[t]))
+        for t in range(start, len(replay) if stop is None else min(stop, len(replay)), every)
+    ]
+    out_path = Path(out_path)
+    out_path.parent.mkdir(parents=True, exist_ok=True)
+    if out_path.suffix.lower() == ".gif":
+        imageio.mimsave(out_path, frames, duration=1.0 / fps, loop=0)
+    else:
+        imageio.mimsave(out_path, frames, fps=fps)
+    renderer.close()
+    return out_path

@@ -1,0 +1,6 @@
+"""Shared pytest setup: headless rendering for every test."""
+
+import os
+
+os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
+os.environ.setdefault("MPLBACKEND", "Agg")
