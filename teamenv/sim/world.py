@@ -33,6 +33,8 @@ class World:
         self.space = pymunk.Space()
         self.space.gravity = (0.0, 0.0)
         self.space.iterations = 10
+        # pymunk's default slop (0.1) assumes pixels; in metres it would let the ball sink 10 cm.
+        self.space.collision_slop = 0.001
         self.margin = max(physics.world_margin, field.goal_depth + 0.5)
         self.bounds = (field.half_length + self.margin, field.half_width + self.margin)
         self._add_static_geometry()
