@@ -19,6 +19,7 @@ from teamenv.field import FieldSpec
 from teamenv.sim.simulation import Commands
 
 DICT_KEYS = ("walk", "kick", "beam", "beam_request", "say")
+_FAST_KEYS = frozenset({"walk", "kick", "say"})
 BOX_SIZE = 9
 
 
@@ -46,9 +47,46 @@ class ActionParser:
             return
         if self.action_format == "box":
             self._fill_box(cmd, rows, agents, actions, dropped)
-        else:
+        elif not self._fill_dict_fast(cmd, rows, actions):
             for row, agent, action in zip(rows, agents, actions):
                 self._fill_dict(cmd, row, agent, action, dropped)
+
+    def _fill_dict_fast(self, cmd: Commands, rows: list[int], actions: list[Any]) -> bool:
+        """Vectorized path for the common case (only valid walk/kick/say keys). Returns False,
+        touching nothing, when anything is unusual; the per-agent path then names the fault."""
+        walk_rows, walks, kick_rows, kicks = [], [], [], []
+        for row, action in zip(rows, actions):
+            if type(action) is not dict or not _FAST_KEYS.issuperset(action):
+                return False
+            if "walk" in action:
+                walk_rows.append(row)
+                walks.append(action["walk"])
+            if "kick" in action:
+                kick_rows.append(row)
+                kicks.append(action["kick"])
+        try:
+            walk = np.asarray(walks, dtype=float).reshape(len(walks), 3)
+            kick = np.asarray(kicks, dtype=float).reshape(len(kicks), 2)
+        except (TypeError, ValueError):
+            return False
+        if not (np.isfinite(walk).all() and np.isfinite(kick).all()):
+            return False
+        if ((walk < self.walk_low - 1e-6) | (walk > self.walk_high + 1e-6)).any() or \
+                ((kick < self.kick_low - 1e-6) | (kick > self.kick_high + 1e-6)).any():
+            return False
+        says = [(row, action["say"]) for row, action in zip(rows, actions)
+                if action.get("say")]
+        if any(not isinstance(text, str) or self.channel.check_message(text) is not None
+               for _, text in says):
+            return False
+        if walk_rows:
+            cmd.walk[walk_rows] = walk
+        if kick_rows:
+            cmd.kick_power[kick_rows] = kick[:, 0]
+            cmd.kick_dir[kick_rows] = kick[:, 1]
+        for row, text in says:
+            cmd.say[row] = text
+        return True
 
     # -- flat Box --------------------------------------------------------------------------
     def _fill_box(self, cmd: Commands, rows: list[int], agents: list[str], actions: list[Any],

@@ -216,7 +216,7 @@ class SoccerParallelEnv(ParallelEnv):
         self.agents = list(self.possible_agents)
         self._episode_over = False
         self.last_report = CycleReport()
-        self._prev_state = self.sim.global_state()
+        self._prev_state = self.sim.global_state() if self.reward_fn is not None else None
         self._refresh_observations()
         observations = self._agent_observations()
         infos = {a: {} for a in self.agents}
@@ -253,7 +253,7 @@ class SoccerParallelEnv(ParallelEnv):
 
         report = self.sim.step(cmd)
         self.last_report = report
-        state = self.sim.global_state()
+        state = self.sim.global_state() if self.reward_fn is not None else None
         self._refresh_observations()
 
         agents = list(self.agents)
@@ -353,7 +353,7 @@ class SoccerParallelEnv(ParallelEnv):
         except ActionError as exc:
             raise TeamFault(side, "invalid_action", str(exc)) from exc
 
-    def _rewards(self, agents: list[str], report: CycleReport, state: np.ndarray) -> dict:
+    def _rewards(self, agents: list[str], report: CycleReport, state: np.ndarray | None) -> dict:
         default = {a: 0.0 for a in agents}
         for event in report.referee:
             if event.kind == "goal":

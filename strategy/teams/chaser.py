@@ -11,7 +11,7 @@ import numpy as np
 
 from strategy.teams.common import kick_toward, walk_to
 from teamenv.observation import team_frame
-from teamenv.sim.playmode import PlayMode
+from teamenv import PlayMode
 from teamenv.teams import TeamContext
 
 OWN_KICKABLE = {"PlayOn", "KickOff_Left", "KickIn_Left", "CornerKick_Left", "GoalKick_Left"}

@@ -62,6 +62,8 @@ class World:
         self.space.on_collision(PLAYER, POST, post_solve=self._on_player_impact)
         self.space.on_collision(BALL, PLAYER, pre_solve=self._on_ball_touch)
         self._launch_table = self._build_launch_table()
+        self._poses: np.ndarray | None = None
+        self._velocities: np.ndarray | None = None
 
     # -- geometry --------------------------------------------------------------------------
     def _add_static_geometry(self) -> None:
@@ -110,21 +112,28 @@ class World:
 
     # -- state access ----------------------------------------------------------------------
     def player_poses(self) -> np.ndarray:
-        """(n, 3) array of x, y, heading (heading wrapped to [-pi, pi))."""
-        out = np.empty((self.n_players, 3))
-        for i, body in enumerate(self.players):
-            x, y = body.position
-            out[i] = x, y, body.angle
-        out[:, 2] = wrap_angle(out[:, 2])
-        return out
+        """(n, 3) array of x, y, heading (heading wrapped to [-pi, pi)); do not modify it."""
+        if self._poses is None:
+            out = np.array([(*body.position, body.angle) for body in self.players],
+                           dtype=float).reshape(self.n_players, 3)
+            out[:, 2] = wrap_angle(out[:, 2])
+            out.flags.writeable = False
+            self._poses = out
+        return self._poses
 
     def player_velocities(self) -> np.ndarray:
         """(n, 3) array of vx, vy (m/s, world frame) and angular velocity (rad/s)."""
-        out = np.empty((self.n_players, 3))
-        for i, body in enumerate(self.players):
-            vx, vy = body.velocity
-            out[i] = vx, vy, body.angular_velocity
-        return out
+        if self._velocities is None:
+            out = np.array([(*body.velocity, body.angular_velocity) for body in self.players],
+                           dtype=float).reshape(self.n_players, 3)
+            out.flags.writeable = False
+            self._velocities = out
+        return self._velocities
+
+    def _invalidate(self) -> None:
+        # Poses and velocities are read several times a cycle; pymunk is asked once.
+        self._poses = None
+        self._velocities = None
 
     def ball_state(self) -> np.ndarray:
         """(4,) array: x, y, vx, vy of the ball."""
@@ -145,6 +154,7 @@ class World:
         if heading is not None:
             body.angle = float(heading)
         body.angular_velocity = 0.0
+        self._invalidate()
 
     # -- dynamics --------------------------------------------------------------------------
     def step(self, world_velocity: np.ndarray) -> None:
@@ -152,6 +162,7 @@ class World:
         dt = self.physics.cycle_s
         self.impacts[:] = 0.0
         self.touches.clear()
+        self._invalidate()
         for body, (vx, vy, omega) in zip(self.players, world_velocity.tolist()):
             body.velocity = (vx, vy)
             body.angular_velocity = omega
@@ -160,6 +171,7 @@ class World:
         h = dt / substeps
         for _ in range(substeps):
             self.space.step(h)
+        self._invalidate()
         self._roll_ball(dt)
 
     def _roll_ball(self, dt: float) -> None:

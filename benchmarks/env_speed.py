@@ -1,0 +1,107 @@
+"""Env steps per second (11 v 11, random actions) against the bare pymunk loop, in one run.
+
+Usage: python benchmarks/env_speed.py [--steps 3000] [--team-size 11]
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import platform
+import time
+
+import numpy as np
+
+import teamenv
+from teamenv.sim.world import World
+
+
+def bench_env(steps: int, team_size: int, action_format: str, seed: int = 0) -> float:
+    env = teamenv.parallel_env(team_size=team_size, action_format=action_format,
+                               rules={"half_time_s": 1e6})
+    env.reset(seed=seed)
+    rng = np.random.default_rng(seed)
+    # Actions are drawn before timing: we measure the env, not the action sampler.
+    pool = []
+    for _ in range(64):
+        if action_format == "box":
+            acts = rng.uniform(-1, 1, (len(env.agents), 9)).astype(np.float32)
+            pool.append(dict(zip(env.agents, acts)))
+        else:
+            pool.append({a: {"walk": rng.uniform([-1, -0.4, -1.5], [1.5, 0.4, 1.5]).astype(np.float32),
+                             "kick": np.array([rng.random() * (rng.random() < 0.1), 0], np.float32)}
+                         for a in env.agents})
+    for k in range(100):  # warm-up
+        env.step(pool[k % 64])
+    start = time.perf_counter()
+    for k in range(steps):
+        env.step(pool[k % 64])
+    return steps / (time.perf_counter() - start)
+
+
+def bench_teams(steps: int, team_size: int, left: str, right: str) -> float:
+    env = teamenv.parallel_env(team_size=team_size, left=left, right=right,
+                               rules={"half_time_s": 1e6})
+    env.reset(seed=0)
+    for _ in range(100):
+        env.step({})
+    start = time.perf_counter()
+    for _ in range(steps):
+        env.step({})
+    return steps / (time.perf_counter() - start)
+
+
+def bench_bare_pymunk(steps: int, team_size: int, seed: int = 0) -> tuple[float, float]:
+    """The same World (bodies, shapes, substep rule) stepped with random velocities: returns
+    (steps/s of World.step, steps/s of the pymunk space.step calls alone)."""
+    env = teamenv.parallel_env(team_size=team_size)
+    env.reset(seed=seed)
+    world: World = env.sim.world
+    rng = np.random.default_rng(seed)
+    n = 2 * team_size
+    vel = [np.column_stack([rng.uniform(-1, 1, (n, 2)), rng.uniform(-1, 1, n)]) for _ in range(64)]
+    for k in range(100):
+        world.step(vel[k % 64])
+    start = time.perf_counter()
+    for k in range(steps):
+        world.step(vel[k % 64])
+    world_rate = steps / (time.perf_counter() - start)
+    dt = env.physics.cycle_s
+    space = world.space
+    start = time.perf_counter()
+    for k in range(steps):
+        substeps = max(1, math.ceil(world.ball.velocity.length * dt / env.physics.max_substep_travel))
+        for _ in range(substeps):
+            space.step(dt / substeps)
+    space_rate = steps / (time.perf_counter() - start)
+    return world_rate, space_rate
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--steps", type=int, default=3000)
+    parser.add_argument("--team-size", type=int, default=11)
+    args = parser.parse_args()
+    n, s = args.team_size, args.steps
+    print(f"teamenv {teamenv.__version__}, python {platform.python_version()}, "
+          f"{platform.machine()}, {n} v {n}, {s} steps each")
+    world_rate, space_rate = bench_bare_pymunk(s, n)
+    env_dict = bench_env(s, n, "dict")
+    env_box = bench_env(s, n, "box")
+    teams = bench_teams(s // 2, n, "chaser", "static")
+    rows = [
+        ("bare pymunk: space.step only", space_rate),
+        ("bare world: velocities + space.step + ball drag", world_rate),
+        ("env, 22 agents, random Dict actions", env_dict),
+        ("env, 22 agents, random Box actions", env_box),
+        ("env, chaser vs static teams (no caller agents)", teams),
+    ]
+    for name, rate in rows:
+        print(f"{name:52s} {rate:9.0f} steps/s  {1e6 / rate:8.1f} us/step")
+    print(f"ratio env(Dict)/bare pymunk loop: {env_dict / space_rate:.2f}  "
+          f"(target >= 0.5: {'met' if env_dict / space_rate >= 0.5 else 'NOT met'})")
+    print(f"ratio env(Box)/bare pymunk loop:  {env_box / space_rate:.2f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Set up a fresh virtual environment and run the main job: one match and a small tournament
+# between the built-in teams, on the embedded defaults (local processes, SQLite in ./out).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+VENV="${TEAMENV_VENV:-.venv}"
+[ -x "$VENV/bin/python" ] || python3 -m venv "$VENV"
+"$VENV/bin/python" -m pip install -q --upgrade pip
+"$VENV/bin/python" -m pip install -q -e '.[render]'
+export SDL_VIDEODRIVER=dummy MPLBACKEND=Agg
+mkdir -p out
+echo "== one match: chaser vs static, simspark 11 v 11, two 60 s halves =="
+"$VENV/bin/teamenv" match chaser static --seed 1 --half-time 60 --replay out/match.npz --gif out/match.gif
+echo
+echo "== a small tournament: round robin of the built-in teams, 2 seeds per pairing =="
+"$VENV/bin/teamenv" tournament run --teams chaser static --seeds 2 --half-time 30 \
+    --db out/tournament.sqlite -j 2

@@ -1,0 +1,60 @@
+"""The import rules of DESIGN.md: strategy -> teamenv -> {locomotion, comms}; teams are plugins."""
+
+import ast
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def imports_of(package: str) -> dict[str, set[str]]:
+    found = {}
+    for path in (ROOT / package).rglob("*.py"):
+        names = set()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Import):
+                names.update(alias.name for alias in node.names)
+            elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+                names.add(node.module)
+        found[str(path.relative_to(ROOT))] = names
+    return found
+
+
+def top(name: str) -> str:
+    return name.split(".")[0]
+
+
+@pytest.mark.parametrize("leaf", ["comms", "locomotion"])
+def test_leaves_import_nothing_of_ours(leaf):
+    ours = {"comms", "locomotion", "teamenv", "strategy"} - {leaf}
+    for path, names in imports_of(leaf).items():
+        assert not {top(n) for n in names} & ours, path
+
+
+def test_teamenv_never_imports_strategy():
+    for path, names in imports_of("teamenv").items():
+        assert "strategy" not in {top(n) for n in names}, path
+
+
+def test_simulation_core_knows_no_rl_api_or_pygame():
+    for path, names in imports_of("teamenv/sim").items():
+        assert not {top(n) for n in names} & {"gymnasium", "pettingzoo", "pygame"}, path
+
+
+def test_strategy_uses_only_public_teamenv():
+    for path, names in imports_of("strategy").items():
+        assert not any(n.startswith("teamenv.sim") for n in names), path
+        assert "locomotion" not in {top(n) for n in names}, path
+
+
+def test_heavy_dependencies_only_where_used():
+    for path, names in imports_of("teamenv").items():
+        tops = {top(n) for n in names}
+        if "render" not in path:
+            assert "pygame" not in tops, path
+        if "tournament" not in path:
+            assert "ray" not in tops, path
+    for path, names in imports_of("locomotion").items():
+        if "humanoid" not in path:
+            assert not {top(n) for n in names} & {"jax", "brax", "mujoco"}, path
