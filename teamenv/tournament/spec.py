@@ -86,6 +86,9 @@ def parse_team_spec(spec: str | TeamSpec) -> TeamSpec:
             break
     if not name or name.endswith(":") or name.startswith(":"):
         raise TeamSpecError(f"team spec {spec!r}: missing team name before the overrides")
+    if "=" in name:
+        raise TeamSpecError(f"team spec {spec!r}: overrides must look like "
+                            "'name:key=value,key2=value2'")
     config: dict[str, Scalar] = {}
     if overrides:
         for item in overrides.split(","):

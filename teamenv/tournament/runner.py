@@ -1,0 +1,251 @@
+"""run_tournament: validate, schedule, play what is missing, store each match as it ends."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from teamenv.tournament.backends import Backend, make_backend
+from teamenv.tournament.errors import StoreError, TournamentConfigError
+from teamenv.tournament.schedule import MatchTask, Tournament
+from teamenv.tournament.spec import validate_specs
+from teamenv.tournament.store import ResultStore
+from teamenv.tournament.table import league_table, rich_table
+
+TABLE_REFRESH_S = 0.5  # the live league table is redrawn at most this often (seconds)
+
+
+@dataclass(frozen=True)
+class TournamentSummary:
+    """What a call to run_tournament did (times in seconds)."""
+
+    tournament: Tournament
+    db_path: Path
+    tournament_id: int
+    scheduled: int          # matches in the schedule
+    stored: int             # matches in the database after this call
+    skipped: int            # already stored when this call started (resume)
+    played: int             # matches played and stored by this call
+    failures: tuple[tuple[int, str], ...] = ()  # (schedule index, error) still missing
+    wall_s: float = 0.0     # wall time of the playing phase
+    db_write_s: float = 0.0  # wall time spent writing matches to the database
+    backend: str = "process"
+    workers: int = 1
+    forfeits: dict[str, int] = field(default_factory=dict)  # reason -> count (this call)
+
+    @property
+    def complete(self) -> bool:
+        return self.stored == self.scheduled
+
+    @property
+    def matches_per_minute(self) -> float:
+        return 60.0 * self.played / self.wall_s if self.wall_s > 0 else 0.0
+
+    def describe(self) -> str:
+        state = "complete" if self.complete else f"incomplete ({self.scheduled - self.stored} " \
+                                                  "missing; rerun with --resume)"
+        text = (f"tournament {self.tournament.name!r}: {self.stored}/{self.scheduled} matches "
+                f"stored, {state}; played {self.played} now ({self.skipped} were stored) in "
+                f"{self.wall_s:.1f} s on {self.workers} {self.backend} worker(s), "
+                f"{self.matches_per_minute:.1f} matches/min")
+        for idx, err in self.failures:
+            text += f"\n  match #{idx} could not be played: {err}"
+        return text
+
+
+@dataclass(frozen=True)
+class _Row:
+    left_team: str
+    right_team: str
+    left_official: int
+    right_official: int
+    forfeit_side: str | None
+    forfeit_reason: str | None
+
+
+def run_tournament(
+    tournament: Tournament | None, db: str | Path, *, name: str | None = None,
+    resume: bool = False, backend: str | Backend = "process", jobs: int | None = None,
+    ray_address: str | None = None, replay_dir: str | Path | None = None,
+    progress: bool = True, console: Any = None, synchronous: str = "FULL",
+) -> TournamentSummary:
+    """Play a tournament (or the missing part of one) and store every match in ``db``.
+
+    ``tournament``: the definition; None with ``resume=True`` reloads it from ``db`` (by
+    ``name``, or the only tournament there). Without ``resume`` the name must be new in ``db``.
+    With ``resume`` a given definition must equal the stored one, and only matches not yet
+    stored are played. Every team spec and the match options are checked (each team is built
+    once) before anything runs. ``backend``: "process" (``jobs`` workers, default all cores),
+    "ray" (``jobs`` local CPUs, or the cluster at ``ray_address``) or a Backend object.
+    ``replay_dir``: record a replay (.npz) of every match there. ``progress``: show a rich
+    progress bar and live league table on ``console`` (a rich Console; default stdout).
+    Ctrl-C stops cleanly (matches already stored stay stored) and re-raises KeyboardInterrupt.
+    """
+    if tournament is None and not resume:
+        raise TournamentConfigError("run_tournament: give a tournament definition, or "
+                                    "resume=True to continue one stored in the database")
+    if tournament is not None and not isinstance(tournament, Tournament):
+        raise TournamentConfigError(f"run_tournament: expected a Tournament, got {tournament!r}")
+    store = ResultStore(db, synchronous=synchronous)
+    try:
+        return _run(store, tournament, name, resume, backend, jobs, ray_address, replay_dir,
+                    progress, console)
+    finally:
+        store.close()
+
+
+def _run(store: ResultStore, tournament: Tournament | None, name: str | None, resume: bool,
+         backend: str | Backend, jobs: int | None, ray_address: str | None,
+         replay_dir: str | Path | None, progress: bool, console: Any) -> TournamentSummary:
+    lookup = tournament.name if tournament is not None else name
+    found = store.find_tournament(lookup) if (resume or lookup is not None) else None
+    if found is not None and not resume:
+        raise StoreError(f"database {str(store.path)!r}: tournament {lookup!r} already exists; "
+                         "resume it (--resume) or choose another name")
+    if found is None and tournament is None:
+        raise StoreError(f"database {str(store.path)!r}: no tournament {lookup!r} to resume; it "
+                         f"holds {store.tournament_names()}")
+    if found is not None and tournament is not None and \
+            found[1].definition_hash() != tournament.definition_hash():
+        raise StoreError(_definition_mismatch(found[1], tournament))
+    if found is not None:
+        tournament = found[1]
+    assert tournament is not None
+    runner = make_backend(backend, jobs, ray_address)  # a bad backend fails before anything
+    versions = validate_specs(tournament.all_teams, tournament.options)
+    if found is None:
+        tid = store.create_tournament(tournament, versions)
+    else:
+        tid = found[0]
+        stored_versions = store.team_versions(tid)
+        changed = {t: (stored_versions.get(t), v) for t, v in versions.items()
+                   if stored_versions.get(t) != v}
+        if changed:
+            raise StoreError(f"tournament {tournament.name!r}: team versions changed since it "
+                             f"started {changed} (stored, now); results would mix versions — "
+                             "start a new tournament")
+    schedule = tournament.schedule()
+    done = store.completed_indices(tid)
+    todo = [t for t in schedule if t.index not in done]
+    if replay_dir is not None:
+        todo = [_with_replay(t, Path(replay_dir), tournament.name) for t in todo]
+    rows = [_Row(r.left_team, r.right_team, r.left_official, r.right_official, r.forfeit_side,
+                 r.forfeit_reason) for r in store.matches(tid)]
+    teams = [t.label for t in tournament.all_teams]
+    played = 0
+    db_write_s = 0.0
+    forfeits: dict[str, int] = {}
+    display = _Display(tournament, len(schedule), len(done), progress, console, teams, rows)
+    start = time.perf_counter()
+    outcomes = runner.run(todo)
+    try:
+        with display:
+            for outcome in outcomes:
+                t0 = time.perf_counter()
+                if outcome.result is None:
+                    store.record_failure(tid, outcome.task, outcome.error or "unknown error")
+                    display.note(f"match #{outcome.task.index} failed: {outcome.error}")
+                    continue
+                res = outcome.result
+                stored = store.record_match(tid, outcome.task, res)
+                db_write_s += time.perf_counter() - t0
+                if stored:
+                    played += 1
+                    official = res.official_score
+                    rows.append(_Row(outcome.task.left.label, outcome.task.right.label,
+                                     official[0], official[1],
+                                     res.forfeit.side if res.forfeit else None,
+                                     res.forfeit.reason if res.forfeit else None))
+                    if res.forfeit:
+                        forfeits[res.forfeit.reason] = forfeits.get(res.forfeit.reason, 0) + 1
+                display.advance(outcome.task, res)
+    except KeyboardInterrupt:
+        display.console_print(f"interrupted: {store.count_matches(tid)}/{len(schedule)} matches "
+                              f"stored in {str(store.path)!r}; continue with --resume")
+        raise
+    finally:
+        outcomes.close()
+    wall = time.perf_counter() - start
+    return TournamentSummary(
+        tournament=tournament, db_path=store.path, tournament_id=tid, scheduled=len(schedule),
+        stored=store.count_matches(tid), skipped=len(done), played=played,
+        failures=tuple(store.failures(tid)), wall_s=wall, db_write_s=db_write_s,
+        backend=getattr(runner, "name", type(runner).__name__),
+        workers=getattr(runner, "workers", 1), forfeits=forfeits)
+
+
+def _with_replay(task: MatchTask, replay_dir: Path, name: str) -> MatchTask:
+    from dataclasses import replace
+
+    safe = "".join(c if c.isalnum() or c in "-_" else "_" for c in name)
+    path = replay_dir / f"{safe}-{task.index:05d}-{task.key[:10]}.npz"
+    return replace(task, replay_path=str(path))
+
+
+def _definition_mismatch(stored: Tournament, given: Tournament) -> str:
+    a, b = stored.to_json(), given.to_json()
+    diff = {k: (a.get(k), b.get(k)) for k in sorted(set(a) | set(b)) if a.get(k) != b.get(k)}
+    return (f"tournament {given.name!r}: the definition differs from the stored one "
+            f"(field: (stored, given)) {diff}; resume without changing it, or use a new name")
+
+
+class _Display:
+    """rich progress bar + live league table (a no-op when ``enabled`` is False)."""
+
+    def __init__(self, tournament: Tournament, total: int, done: int, enabled: bool,
+                 console: Any, teams: list[str], rows: list[_Row]) -> None:
+        self.enabled = enabled
+        self.teams = teams
+        self.rows = rows
+        self.title = f"{tournament.name} ({tournament.format.replace('_', ' ')})"
+        self._last = 0.0
+        if not enabled:
+            return
+        from rich.console import Console, Group
+        from rich.live import Live
+        from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn,
+                                   TimeElapsedColumn, TimeRemainingColumn)
+
+        self.console = console or Console()
+        self.progress = Progress(TextColumn("[bold]{task.description}"), BarColumn(),
+                                 MofNCompleteColumn(), TimeElapsedColumn(), TimeRemainingColumn(),
+                                 TextColumn("{task.fields[last]}"), console=self.console)
+        self.task_id = self.progress.add_task("matches", total=total, completed=done, last="")
+        self._group = Group
+        self.live = Live(self._renderable(), console=self.console, refresh_per_second=4,
+                         transient=False)
+
+    def _renderable(self) -> Any:
+        table = rich_table(league_table(self.rows, self.teams), title=self.title)
+        return self._group(table, self.progress)
+
+    def __enter__(self) -> _Display:
+        if self.enabled:
+            self.live.__enter__()
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        if self.enabled:
+            self.live.update(self._renderable())
+            self.live.__exit__(*exc)
+
+    def advance(self, task: MatchTask, result: Any) -> None:
+        if not self.enabled:
+            return
+        last = f"{task.left.label} {result.score[0]}-{result.score[1]} {task.right.label}"
+        if result.forfeit:
+            last += f" (forfeit {result.forfeit.side}: {result.forfeit.reason})"
+        self.progress.update(self.task_id, advance=1, last=last)
+        now = time.monotonic()
+        if now - self._last >= TABLE_REFRESH_S:
+            self._last = now
+            self.live.update(self._renderable())
+
+    def note(self, text: str) -> None:
+        self.console_print(text)
+
+    def console_print(self, text: str) -> None:
+        if self.enabled:
+            self.console.print(text)
