@@ -1,0 +1,23 @@
+"""Formations: ball position -> home positions (Delaunay + barycentric), files, agent2d import, plots.
+
+Public API: ``Formation``, ``Role``, ``FormationError``, ``read_formation``,
+``write_formation``, ``formation_from_dict``, ``formation_to_dict``, ``import_agent2d``,
+``builtin_formation``, ``builtin_formation_names``, ``plot_formation``.
+"""
+
+from strategy.formation.agent2d import import_agent2d
+from strategy.formation.builtin import builtin_formation, builtin_formation_names
+from strategy.formation.fileformat import (
+    formation_from_dict,
+    formation_to_dict,
+    read_formation,
+    write_formation,
+)
+from strategy.formation.model import Formation, FormationError, Role
+from strategy.formation.plot import plot_formation
+
+__all__ = [
+    "Formation", "FormationError", "Role", "builtin_formation", "builtin_formation_names",
+    "formation_from_dict", "formation_to_dict", "import_agent2d", "plot_formation",
+    "read_formation", "write_formation",
+]

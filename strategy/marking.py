@@ -1,0 +1,252 @@
+"""Marking (ITAndroids TDP 2019, §5.4): replace formation positions by marking positions.
+
+Three steps, all in the team frame (metres; our goal centre at (-length/2, 0); we attack +x,
+so the opponents attack -x):
+
+1. **Choose the dangerous opponents.** An opponent (present in our world model) is marked if
+   all four conditions hold:
+
+   - *close enough to take a shot*: its distance to our goal centre is at most
+     ``shoot_range_m``;
+   - *not the closest opponent to the ball* (that one is pressed by our ball chaser; ties
+     broken by the lower index);
+   - *not too close to the ball*: its distance to the ball is at least ``min_ball_distance_m``;
+   - *not too far behind the ball*: it is at most ``max_behind_ball_m`` further from our goal
+     line than the ball (``opp_x - ball_x <= max_behind_ball_m``; "behind" seen from the
+     opponents' attacking direction).
+
+   If more opponents qualify than ``max_markers`` allows, the ones closest to our goal centre
+   are kept.
+2. **Marking positions**: ``mark_distance_m`` (1.5 m) from each marked opponent along the line
+   from it to our goal centre (the goal centre itself if the opponent is closer than that).
+3. **Replace formation positions**: the marking positions replace formation positions chosen
+   by the Hungarian algorithm (``linear_sum_assignment``) minimising the sum of distances
+   between the replaced formation positions and the marking positions; protected positions
+   (the goalie's) are never replaced. Role assignment then runs on the result.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.optimize import linear_sum_assignment
+from scipy.spatial.distance import cdist
+
+from teamenv.errors import TeamEnvError
+from teamenv.field import FieldSpec, field_preset
+
+
+class MarkingError(TeamEnvError, ValueError):
+    """Bad input to marking (shape, NaN, negative distance); names the field and value."""
+
+
+@dataclass(frozen=True)
+class MarkingParams:
+    """Thresholds of the marking heuristic, metres (defaults sized for the simspark pitch).
+
+    Attributes:
+        shoot_range_m: an opponent this close to our goal centre can shoot.
+        min_ball_distance_m: opponents closer than this to the ball are not marked.
+        max_behind_ball_m: opponents more than this behind the ball (further from our goal
+            line than the ball) are not marked.
+        mark_distance_m: a marker stands this far from its opponent, towards our goal centre.
+        max_markers: at most this many opponents are marked (None: one per replaceable
+            formation position).
+    """
+
+    shoot_range_m: float = 9.0
+    min_ball_distance_m: float = 2.0
+    max_behind_ball_m: float = 3.0
+    mark_distance_m: float = 1.5
+    max_markers: int | None = 3
+
+    def __post_init__(self) -> None:
+        for name in ("shoot_range_m", "min_ball_distance_m", "max_behind_ball_m",
+                     "mark_distance_m"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and np.isfinite(v) and v >= 0):
+                raise MarkingError(f"MarkingParams.{name} must be a finite number >= 0, got {v!r}")
+        if self.max_markers is not None and (not isinstance(self.max_markers, int)
+                                             or self.max_markers < 0):
+            raise MarkingError(f"MarkingParams.max_markers must be None or an int >= 0, "
+                               f"got {self.max_markers!r}")
+
+    @classmethod
+    def for_field(cls, field: str | FieldSpec, **overrides: object) -> MarkingParams:
+        """Defaults scaled to ``field``: shooting and behind-the-ball ranges grow with its length
+        (simspark 30 m is the reference); the ball and marking distances stay as they are."""
+        spec = field_preset(field)
+        k = spec.length / 30.0
+        base = cls()
+        unknown = sorted(set(overrides) - set(cls.__dataclass_fields__))
+        if unknown:
+            raise MarkingError(f"MarkingParams.for_field: unknown parameter(s) {unknown}")
+        values: dict[str, object] = {"shoot_range_m": base.shoot_range_m * k,
+                                     "max_behind_ball_m": base.max_behind_ball_m * k}
+        values.update(overrides)
+        return replace(base, **values)  # type: ignore[arg-type]
+
+
+@dataclass(frozen=True)
+class MarkingResult:
+    """What marking did.
+
+    Attributes:
+        positions: (N, 2) formation positions with the marking positions put in, metres.
+        marked: indices of the marked opponents.
+        marking_positions: (K, 2) the marking positions, in the order of ``marked``, metres.
+        replaced: (K,) the formation position index each marking position replaced.
+    """
+
+    positions: NDArray[np.float64]
+    marked: NDArray[np.intp]
+    marking_positions: NDArray[np.float64]
+    replaced: NDArray[np.intp]
+
+
+def dangerous_opponents(
+    ball: ArrayLike,
+    opponents: ArrayLike,
+    field: str | FieldSpec,
+    params: MarkingParams | None = None,
+    present: ArrayLike | None = None,
+) -> NDArray[np.intp]:
+    """Indices of the opponents to mark (see the module docstring), closest to our goal first.
+
+    Args:
+        ball: ball position (x, y), metres, team frame.
+        opponents: (M, 2) opponent positions, metres, team frame.
+        field: the pitch (our goal centre is at (-length/2, 0)).
+        params: thresholds (default: ``MarkingParams.for_field(field)``).
+        present: (M,) bool, False for opponents not in the world model (never marked).
+    """
+    spec = field_preset(field)
+    prm = MarkingParams.for_field(spec) if params is None else params
+    b = _point(ball, "ball")
+    opp = _points(opponents, "opponents")
+    here = None if present is None else _mask(present, len(opp), "present")
+    return _dangerous(b, opp, here, -spec.half_length, prm)
+
+
+def _dangerous(b: NDArray[np.float64], opp: NDArray[np.float64], here: NDArray[np.bool_] | None,
+               goal_x: float, prm: MarkingParams) -> NDArray[np.intp]:
+    if len(opp) == 0 or (here is not None and not here.any()):
+        return np.zeros(0, dtype=np.intp)
+    ox, oy = opp[:, 0], opp[:, 1]
+    if not math.isfinite(float(opp.sum())):
+        bad = ~np.isfinite(opp).all(axis=1)
+        if here is not None:
+            bad &= here
+        if bad.any():
+            i = int(np.flatnonzero(bad)[0])
+            raise MarkingError(
+                f"opponents[{i}] = {tuple(opp[i])} is not finite (mark it not present)"
+            )
+        ox, oy = np.nan_to_num(ox), np.nan_to_num(oy)
+    d_goal = np.hypot(ox - goal_x, oy)
+    d_ball = np.hypot(ox - b[0], oy - b[1])
+    if here is not None:
+        d_ball = np.where(here, d_ball, np.inf)
+    ok = (d_goal <= prm.shoot_range_m) & (d_ball >= prm.min_ball_distance_m) & (
+        ox - b[0] <= prm.max_behind_ball_m)
+    if here is not None:
+        ok &= here
+    ok[int(d_ball.argmin())] = False  # the closest opponent to the ball (lowest index on ties)
+    idx = np.flatnonzero(ok)
+    if len(idx) > 1:
+        idx = idx[np.argsort(d_goal[idx], kind="stable")]
+    return idx
+
+
+def marking_positions(
+    opponents: ArrayLike, field: str | FieldSpec, mark_distance_m: float = 1.5
+) -> NDArray[np.float64]:
+    """(K, 2) positions ``mark_distance_m`` from each opponent (K, 2) towards our goal centre, m."""
+    spec = field_preset(field)
+    return _marking_positions(_points(opponents, "opponents"), -spec.half_length,
+                              float(mark_distance_m))
+
+
+def _marking_positions(opp: NDArray[np.float64], goal_x: float,
+                       mark_distance_m: float) -> NDArray[np.float64]:
+    d = np.array([goal_x, 0.0]) - opp
+    dist = np.hypot(d[:, 0], d[:, 1])
+    # the goal centre itself for an opponent closer to it than mark_distance_m
+    scale = np.minimum(dist, mark_distance_m) / np.maximum(dist, 1e-12)
+    return opp + d * scale[:, None]
+
+
+def apply_marking(
+    home_positions: ArrayLike,
+    ball: ArrayLike,
+    opponents: ArrayLike,
+    field: str | FieldSpec,
+    params: MarkingParams | None = None,
+    present: ArrayLike | None = None,
+    protected: Sequence[int] = (0,),
+) -> MarkingResult:
+    """Replace the formation positions nearest the marking positions (Hungarian, sum of distances).
+
+    Args:
+        home_positions: (N, 2) formation positions, metres, team frame.
+        ball, opponents, field, params, present: as for ``dangerous_opponents``.
+        protected: formation position indices never replaced (default: the goalie's, 0).
+
+    Returns:
+        A ``MarkingResult``; run ``assign_roles`` on its ``positions``.
+    """
+    spec = field_preset(field)
+    prm = MarkingParams.for_field(spec) if params is None else params
+    home = _points(home_positions, "home_positions")
+    b = _point(ball, "ball")
+    opp = _points(opponents, "opponents")
+    here = None if present is None else _mask(present, len(opp), "present")
+    marked = _dangerous(b, opp, here, -spec.half_length, prm)
+    free = _free_positions(len(home), tuple(int(i) for i in protected))
+    limit = len(free) if prm.max_markers is None else min(prm.max_markers, len(free))
+    marked = marked[:limit]
+    out = home.copy()
+    if len(marked) == 0:
+        empty = np.zeros(0, dtype=np.intp)
+        return MarkingResult(out, empty, np.zeros((0, 2)), empty)
+    marks = _marking_positions(opp[marked], -spec.half_length, prm.mark_distance_m)
+    rows, cols = linear_sum_assignment(cdist(marks, home[free]))
+    replaced = free[cols]
+    out[replaced] = marks[rows]
+    return MarkingResult(out, marked, marks, replaced)
+
+
+@functools.lru_cache(maxsize=64)
+def _free_positions(n: int, protected: tuple[int, ...]) -> NDArray[np.intp]:
+    for i in protected:
+        if not 0 <= i < n:
+            raise MarkingError(f"protected position {i} is not in 0..{n - 1}")
+    free = np.array([i for i in range(n) if i not in protected], dtype=np.intp)
+    free.flags.writeable = False
+    return free
+
+
+def _point(value: ArrayLike, name: str) -> NDArray[np.float64]:
+    a = np.asarray(value, dtype=np.float64).reshape(-1)
+    if a.shape != (2,) or not np.isfinite(a).all():
+        raise MarkingError(f"{name} must be a finite (x, y) in metres, got {value!r}")
+    return a
+
+
+def _points(value: ArrayLike, name: str) -> NDArray[np.float64]:
+    a = np.asarray(value, dtype=np.float64)
+    if a.ndim != 2 or a.shape[1] != 2:
+        raise MarkingError(f"{name} must have shape (M, 2) in metres, got shape {a.shape}")
+    return a
+
+
+def _mask(value: ArrayLike, n: int, name: str) -> NDArray[np.bool_]:
+    a = np.asarray(value)
+    if a.shape != (n,):
+        raise MarkingError(f"{name} must have shape ({n},), got shape {a.shape}")
+    return a.astype(bool)

@@ -1,0 +1,218 @@
+"""One agent's positioning: formation lookup, marking, role assignment, role-vote say and tally.
+
+Decentralized by construction: a ``PositioningAgent`` decides from *its own* world view (built
+from its own observation) and the texts it heard; it holds no reference to any other agent.
+Each cycle it
+
+1. looks up the formation's home positions for the ball it believes in;
+2. optionally replaces some by marking positions (``strategy.marking``);
+3. assigns positions to players by MMD+MSD² (``strategy.roles.assignment``) from the player
+   positions it believes in: its own *role vector*;
+4. says that vector (``strategy.roles.message``, with its uniform number);
+5. tallies its own vector with the fresh vectors heard from teammates
+   (``strategy.roles.voting``) and takes the position the team voted for it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from strategy.formation.model import Formation, FormationError
+from strategy.marking import MarkingParams, apply_marking
+from strategy.roles.assignment import FALLEN_PENALTY_M, assign_roles
+from strategy.roles.message import decode_role_vote, encode_role_vote
+from strategy.roles.voting import DEFAULT_MAX_AGE_CYCLES, RoleVoter
+from teamenv.field import FieldSpec, field_preset
+from teamenv.observation import team_frame
+
+
+@dataclass(frozen=True)
+class WorldView:
+    """What one agent believes, in its team frame (metres; row k = uniform number k + 1).
+
+    Attributes:
+        players: (N, 2) teammate positions, own row included.
+        present: (N,) bool, False for teammates not on the field / unknown.
+        fallen: (N,) bool.
+        ball: (2,) ball position.
+        opponents: (M, 2) opponent positions.
+        opponents_present: (M,) bool.
+    """
+
+    players: NDArray[np.float64]
+    present: NDArray[np.bool_]
+    fallen: NDArray[np.bool_]
+    ball: NDArray[np.float64]
+    opponents: NDArray[np.float64]
+    opponents_present: NDArray[np.bool_]
+
+    @classmethod
+    def from_observation(cls, obs: Mapping[str, Any], me: int) -> WorldView:
+        """The world view of a Dict-form ``state`` observation (``teamenv.observation``)."""
+        v = team_frame(obs)
+        players = np.array(v.teammates, dtype=np.float64)
+        players[me] = v.position  # own row: exact, not rotated zeros
+        present = np.array(v.teammates_present, dtype=bool)
+        present[me] = True
+        fallen = np.array(v.teammates_fallen, dtype=bool)
+        fallen[me] = v.fallen
+        return cls(players, present, fallen, np.array(v.ball, dtype=np.float64),
+                   np.array(v.opponents, dtype=np.float64),
+                   np.array(v.opponents_present, dtype=bool))
+
+
+def heard_texts(obs: Mapping[str, Any]) -> list[str]:
+    """The non-empty texts of ``obs`` heard from teammates or from oneself (opponents' dropped)."""
+    texts = obs.get("heard_text", ())
+    info = np.asarray(obs.get("heard", np.zeros((0, 4))))
+    out = []
+    for k, text in enumerate(texts):
+        if not text or k >= len(info):
+            continue
+        present, from_self, from_mate = info[k, 0] > 0.5, info[k, 1] > 0.5, info[k, 2] > 0.5
+        if present and (from_self or from_mate):
+            out.append(text)
+    return out
+
+
+@dataclass(frozen=True)
+class PositioningDecision:
+    """One agent's positioning output for one cycle.
+
+    Attributes:
+        target: (2,) where this agent should stand, metres, team frame.
+        position_index: the formation position the team voted for this agent.
+        own_vector: (N,) the role vector this agent computed from its own world view.
+        team_vector: (N,) the team's role vector after voting.
+        positions: (N, 2) the positions (formation after marking) this agent used, metres.
+        say: the role-vote text to say this cycle ("" when silent).
+        max_distance: the longest walk of this agent's own assignment, metres.
+    """
+
+    target: NDArray[np.float64]
+    position_index: int
+    own_vector: NDArray[np.intp]
+    team_vector: NDArray[np.intp]
+    positions: NDArray[np.float64]
+    say: str
+    max_distance: float
+
+
+class PositioningAgent:
+    """The positioning brain of player ``me`` (index = uniform number - 1).
+
+    Args:
+        me: this agent's player index.
+        formation: the formation to use (its size must be the team size), already on the
+            match's pitch (``Formation.scaled_to`` / ``builtin_formation(name, field)``).
+        field: the pitch (for marking: our goal centre).
+        marking: marking thresholds, or None for no marking.
+        channel: the say channel profile name, "simspark" or "mj".
+        max_age_cycles: age limit of heard role vectors, cycles.
+        fallen_penalty_m: extra distance charged to fallen players in role assignment, metres.
+        say_every: say the role vector every this many cycles (offset by ``me``), 1 = always.
+    """
+
+    def __init__(
+        self,
+        me: int,
+        formation: Formation,
+        field: str | FieldSpec = "simspark",
+        *,
+        marking: MarkingParams | None = None,
+        channel: str = "simspark",
+        max_age_cycles: int = DEFAULT_MAX_AGE_CYCLES,
+        fallen_penalty_m: float = FALLEN_PENALTY_M,
+        say_every: int = 1,
+    ) -> None:
+        self.n = formation.n_players
+        if not 0 <= me < self.n:
+            raise FormationError(f"PositioningAgent: me={me!r} must be in 0..{self.n - 1}")
+        if say_every < 1:
+            raise FormationError(f"PositioningAgent: say_every must be >= 1, got {say_every!r}")
+        self.me = int(me)
+        self.formation = formation
+        self.field = field_preset(field)
+        self.marking = marking
+        self.channel = channel
+        self.fallen_penalty_m = float(fallen_penalty_m)
+        self.say_every = int(say_every)
+        self.voter = RoleVoter(self.n, self.me, max_age_cycles)
+        self.cycle = 0
+
+    def reset(self) -> None:
+        """Start a new episode: forget heard vectors, restart the cycle count."""
+        self.voter.reset()
+        self.cycle = 0
+
+    def step_observation(self, obs: Mapping[str, Any],
+                         formation: Formation | None = None) -> PositioningDecision:
+        """``step`` on a Dict-form ``state`` observation (its own, and the texts it heard)."""
+        return self.step(WorldView.from_observation(obs, self.me), heard_texts(obs), formation)
+
+    def step(self, view: WorldView, heard: Sequence[str] = (),
+             formation: Formation | None = None) -> PositioningDecision:
+        """Decide this cycle's position from ``view`` and the ``heard`` texts; advance a cycle.
+
+        Args:
+            view: this agent's world view.
+            heard: texts heard this cycle from teammates (or itself); non-votes are ignored.
+            formation: use this formation this cycle instead of the default one (same size).
+        """
+        f = self.formation if formation is None else formation
+        if f.n_players != self.n:
+            raise FormationError(
+                f"PositioningAgent {self.me}: formation {f.name!r} has {f.n_players} players, "
+                f"expected {self.n}"
+            )
+        cycle = self.cycle
+        self.cycle += 1
+        for text in heard:
+            vote = decode_role_vote(text, self.n, self.channel)
+            if vote is not None and 0 <= vote[0] < self.n:
+                self.voter.hear(vote[0], vote[1], cycle, validate=False)  # decoder checked it
+        positions = f.home_positions(view.ball)
+        if self.marking is not None:
+            positions = apply_marking(positions, view.ball, view.opponents, self.field,
+                                      self.marking, view.opponents_present,
+                                      protected=_protected(f)).positions
+        gi = f.goalie_index
+        own = assign_roles(view.players, positions, available=view.present, fallen=view.fallen,
+                           goalie=0 if gi is not None else None,
+                           goalie_position=gi if gi is not None else 0,
+                           fallen_penalty_m=self.fallen_penalty_m)
+        team = self.voter.vote(own.position_of, cycle, validate=False)
+        k = int(team[self.me])
+        say = ""
+        if (cycle + self.me) % self.say_every == 0:
+            say = encode_role_vote(self.me, own.position_of, self.n, self.channel)
+        return PositioningDecision(positions[k].copy(), k, own.position_of, team, positions, say,
+                                   own.max_distance)
+
+
+def _protected(f: Formation) -> tuple[int, ...]:
+    gi = f.goalie_index
+    return () if gi is None else (gi,)
+
+
+def world_view(players: ArrayLike, ball: ArrayLike, opponents: ArrayLike | None = None,
+               present: ArrayLike | None = None, fallen: ArrayLike | None = None,
+               opponents_present: ArrayLike | None = None) -> WorldView:
+    """A ``WorldView`` from arrays (metres, team frame); masks default to all present / upright."""
+    p = np.asarray(players, dtype=np.float64)
+    n = len(p)
+    o = np.zeros((0, 2)) if opponents is None else np.asarray(opponents, dtype=np.float64)
+    return WorldView(
+        p,
+        np.ones(n, dtype=bool) if present is None else np.asarray(present, dtype=bool),
+        np.zeros(n, dtype=bool) if fallen is None else np.asarray(fallen, dtype=bool),
+        np.asarray(ball, dtype=np.float64),
+        o,
+        np.ones(len(o), dtype=bool) if opponents_present is None
+        else np.asarray(opponents_present, dtype=bool),
+    )

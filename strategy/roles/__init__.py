@@ -1,0 +1,17 @@
+"""Dynamic role assignment (MMD+MSD², exact; greedy baseline) and voting on role vectors."""
+
+from strategy.roles.assignment import (
+    Assignment,
+    RoleAssignmentError,
+    assign_roles,
+    distance_matrix,
+    solve_greedy,
+    solve_mmd_msd2,
+)
+from strategy.roles.voting import RoleVoter, VotingError, is_permutation, tally_votes, vote_matrix
+
+__all__ = [
+    "Assignment", "RoleAssignmentError", "RoleVoter", "VotingError", "assign_roles",
+    "distance_matrix", "is_permutation", "solve_greedy", "solve_mmd_msd2", "tally_votes",
+    "vote_matrix",
+]

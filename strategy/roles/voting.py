@@ -1,0 +1,200 @@
+"""Voting on role vectors: every agent tallies the vectors it heard and adopts the team's choice.
+
+Each agent computes a *role vector* from its own world model (``position_of[i]`` = the position
+player i should take; a permutation of 0..N-1) and says it. Each agent keeps the latest vector
+heard from each teammate (its own counts too, always fresh), drops those older than an age
+limit, and tallies them: ``votes[i, k]`` = how many vectors give player i position k.
+
+The result is the permutation that agrees with the most votes (sum over players of
+``votes[i, result[i]]``): when the per-player most-voted positions form a permutation, that is
+it; otherwise it is their repair into one. **Tie-break** (documented and deterministic, the
+same on every agent): among the permutations with the most votes, the lexicographically
+smallest (player 0's position as small as possible, then player 1's, ...). Agents that tally
+the same set of vectors therefore adopt the same assignment, whatever their own world model
+says; since a speaker's vector is the same for every listener, the team converges once each
+agent has heard the others within the age limit.
+
+The maximum-vote, lexicographically smallest permutation is one ``linear_sum_assignment`` on
+integer costs ``-votes * n**n + position * n**(n-1-player)`` (exact in float64 for n <= 12:
+the tie-break term is a base-n number whose digits are the positions, smaller than the value
+of one vote). Larger n fall back to fixing players one at a time (exact, slower).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.optimize import linear_sum_assignment
+
+from teamenv.errors import TeamEnvError
+
+DEFAULT_MAX_AGE_CYCLES = 60
+"""Default age limit of a heard vector (cycles; 1.2 s at 20 ms). The simspark channel lets a
+listener hear one teammate every 2 cycles, so 10 talking teammates are heard every ~20 cycles."""
+
+_EXACT_MAX_N = 12
+_WEIGHTS: dict[int, tuple[float, NDArray[np.float64]]] = {}
+
+
+class VotingError(TeamEnvError, ValueError):
+    """A role vector is not a permutation of 0..N-1, or a voter argument is out of range."""
+
+
+def is_permutation(vector: ArrayLike, n: int) -> bool:
+    """True if ``vector`` is a permutation of 0..n-1 (integers, shape (n,))."""
+    v = np.asarray(vector)
+    if v.shape != (n,) or v.dtype.kind not in "iu":
+        return False
+    return sorted(v.tolist()) == list(range(n))
+
+
+def vote_matrix(vectors: ArrayLike, n: int) -> NDArray[np.int64]:
+    """(n, n) counts: ``votes[i, k]`` = how many of the (K, n) ``vectors`` give player i position k."""
+    v = np.asarray(vectors, dtype=np.intp).reshape(-1, n)
+    offsets = _OFFSETS.get(n)
+    if offsets is None:
+        offsets = _OFFSETS[n] = np.arange(n, dtype=np.intp) * n
+    return np.bincount((offsets + v).ravel(), minlength=n * n).reshape(n, n)
+
+
+_OFFSETS: dict[int, NDArray[np.intp]] = {}
+
+
+def tally_votes(vectors: ArrayLike | Sequence[ArrayLike], n: int | None = None) -> NDArray[np.intp]:
+    """The permutation agreeing with the most of ``vectors`` (K, n); ties: lexicographically smallest.
+
+    Args:
+        vectors: K role vectors, each a permutation of 0..n-1 (validated).
+        n: number of players (default: the vectors' length).
+
+    Returns:
+        (n,) int permutation.
+    """
+    arr = np.asarray(vectors)
+    if arr.ndim == 1:
+        arr = arr[None, :]
+    if arr.ndim != 2 or arr.shape[0] == 0:
+        raise VotingError(f"tally_votes: vectors must have shape (K >= 1, n), got shape {arr.shape}")
+    n = arr.shape[1] if n is None else n
+    for k, v in enumerate(arr):
+        if not is_permutation(v, n):
+            raise VotingError(f"tally_votes: vectors[{k}] = {v.tolist()} is not a permutation of "
+                              f"0..{n - 1}")
+    return _tally(vote_matrix(arr, n))
+
+
+def _tally(votes: NDArray[np.int64]) -> NDArray[np.intp]:
+    n = votes.shape[0]
+    if n <= _EXACT_MAX_N:
+        scale, tie = _weights(n)
+        _, cols = linear_sum_assignment(tie - votes * scale)
+        return cols
+    return _tally_slow(votes)
+
+
+def _weights(n: int) -> tuple[float, NDArray[np.float64]]:
+    w = _WEIGHTS.get(n)
+    if w is None:
+        digit = np.array([float(n) ** (n - 1 - i) for i in range(n)])
+        w = (float(n) ** n, digit[:, None] * np.arange(n, dtype=np.float64)[None, :])
+        _WEIGHTS[n] = w
+    return w
+
+
+def _tally_slow(votes: NDArray[np.int64]) -> NDArray[np.intp]:
+    """Same result as ``_tally`` for any n: maximise votes, then fix players in order."""
+    n = votes.shape[0]
+    cost = -votes.astype(np.float64)
+    r, c = linear_sum_assignment(cost)
+    best = cost[r, c].sum()
+    result = np.full(n, -1, dtype=np.intp)
+    for i in range(n):
+        for k in range(n):
+            if k in result[:i]:
+                continue
+            trial = cost.copy()
+            for j in range(i + 1):
+                col = result[j] if j < i else k
+                trial[j, :] = np.inf
+                trial[:, col] = np.inf
+                trial[j, col] = cost[j, col]
+            try:
+                rr, cc = linear_sum_assignment(trial)
+            except ValueError:
+                continue
+            if trial[rr, cc].sum() == best:
+                result[i] = k
+                break
+    return result
+
+
+class RoleVoter:
+    """One agent's ballot box: the latest role vector from each teammate, with its age.
+
+    Args:
+        n_players: team size N (vectors are permutations of 0..N-1).
+        me: this agent's player index (uniform number - 1).
+        max_age_cycles: vectors heard more than this many cycles ago are not counted.
+    """
+
+    def __init__(self, n_players: int, me: int, max_age_cycles: int = DEFAULT_MAX_AGE_CYCLES):
+        if n_players < 1:
+            raise VotingError(f"RoleVoter: n_players must be >= 1, got {n_players!r}")
+        if not 0 <= me < n_players:
+            raise VotingError(f"RoleVoter: me={me!r} must be in 0..{n_players - 1}")
+        if max_age_cycles < 0:
+            raise VotingError(f"RoleVoter: max_age_cycles must be >= 0, got {max_age_cycles!r}")
+        self.n = int(n_players)
+        self.me = int(me)
+        self.max_age_cycles = int(max_age_cycles)
+        self._vectors = np.zeros((self.n, self.n), dtype=np.intp)
+        self._cycle = np.full(self.n, np.iinfo(np.int64).min // 2, dtype=np.int64)
+
+    def reset(self) -> None:
+        """Forget everything heard (new episode)."""
+        self._cycle[:] = np.iinfo(np.int64).min // 2
+
+    def hear(self, speaker: int, vector: ArrayLike, cycle: int, validate: bool = True) -> None:
+        """Record ``speaker``'s role vector, heard at ``cycle`` (it replaces an older one).
+
+        A vector "heard" from oneself is ignored (the agent's own vote is always its latest).
+        Raises ``VotingError`` if ``speaker`` is out of range or ``vector`` is not a permutation
+        (``validate=False`` skips the permutation check, for vectors a decoder already checked).
+        """
+        if not 0 <= speaker < self.n:
+            raise VotingError(f"RoleVoter.hear: speaker={speaker!r} must be in 0..{self.n - 1}")
+        if validate and not is_permutation(vector, self.n):
+            raise VotingError(
+                f"RoleVoter.hear: vector from speaker {speaker} = {np.asarray(vector).tolist()} "
+                f"is not a permutation of 0..{self.n - 1}"
+            )
+        if speaker == self.me:
+            return
+        self._vectors[speaker] = vector
+        self._cycle[speaker] = cycle
+
+    def fresh_speakers(self, cycle: int) -> NDArray[np.intp]:
+        """Teammates whose latest vector is within the age limit at ``cycle`` (self excluded)."""
+        ok = cycle - self._cycle <= self.max_age_cycles
+        ok[self.me] = False
+        return np.flatnonzero(ok)
+
+    def vote(self, own_vector: ArrayLike, cycle: int, validate: bool = True) -> NDArray[np.intp]:
+        """Count ``own_vector`` and every fresh heard vector; return the team's assignment.
+
+        ``validate=False`` skips checking that ``own_vector`` is a permutation (for vectors
+        ``assign_roles`` just produced).
+        """
+        own = np.asarray(own_vector)
+        if validate and not is_permutation(own, self.n):
+            raise VotingError(
+                f"RoleVoter.vote: own vector {own.tolist()} is not a permutation of 0..{self.n - 1}"
+            )
+        self._vectors[self.me] = own
+        self._cycle[self.me] = cycle
+        ballots = self._vectors[cycle - self._cycle <= self.max_age_cycles]
+        if (ballots == own).all():  # unanimous (the usual case once converged)
+            return ballots[0].copy()
+        return _tally(vote_matrix(ballots, self.n))
