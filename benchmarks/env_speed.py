@@ -77,6 +77,41 @@ def bench_bare_pymunk(steps: int, team_size: int, seed: int = 0) -> tuple[float,
     return world_rate, space_rate
 
 
+def bench_components(steps: int, team_size: int) -> dict[str, float]:
+    """Microseconds per cycle of the env's parts, each timed alone on a live env's inputs."""
+    env = teamenv.parallel_env(team_size=team_size, rules={"half_time_s": 1e6})
+    env.reset(seed=0)
+    sim, n = env.sim, env.sim.n
+    rng = np.random.default_rng(0)
+    actions = {a: {"walk": rng.uniform([-1, -0.4, -1.5], [1.5, 0.4, 1.5]).astype(np.float32)}
+               for a in env.agents}
+    for _ in range(50):
+        env.step(actions)
+    from teamenv.sim.simulation import Commands
+
+    def timed(fn) -> float:
+        start = time.perf_counter()
+        for _ in range(steps):
+            fn()
+        return (time.perf_counter() - start) / steps * 1e6
+
+    cmd = Commands.idle(n)
+    rows = [env._row[a] for a in env.agents]
+    walk = np.array([actions[a]["walk"] for a in env.agents], dtype=float)
+    kick = np.zeros(n, dtype=bool)
+    zeros = np.zeros(n)
+    return {
+        "action validation (22 Dict actions)": timed(
+            lambda: env.parser.fill(cmd, rows, env.agents, [actions[a] for a in env.agents], {})),
+        "locomotion Bodies.step": timed(
+            lambda: sim.bodies.step(walk, kick, zeros, zeros, zeros, sim.rng, dt=0.02)),
+        "world.step (pymunk + body I/O)": timed(lambda: sim.world.step(np.zeros((n, 3)))),
+        "perception (22 observations)": timed(lambda: (sim.world._invalidate(),
+                                                        sim.observations())),
+        "whole env.step": timed(lambda: env.step(actions)),
+    }
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--steps", type=int, default=3000)
@@ -101,6 +136,9 @@ def main() -> None:
     print(f"ratio env(Dict)/bare pymunk loop: {env_dict / space_rate:.2f}  "
           f"(target >= 0.5: {'met' if env_dict / space_rate >= 0.5 else 'NOT met'})")
     print(f"ratio env(Box)/bare pymunk loop:  {env_box / space_rate:.2f}")
+    print("where an env step goes (each part timed alone):")
+    for name, us in bench_components(s // 2, n).items():
+        print(f"  {name:40s} {us:8.1f} us")
 
 
 if __name__ == "__main__":
