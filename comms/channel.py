@@ -314,24 +314,19 @@ class Channel:
         arrival = np.arange(n_spk)[:, None]
 
         if prof.attenuation_db_per_doubling > 0.0:
-            # mj: received volume, loudest-first ranking, random loss of the quieter ones.
+            # mj: loudest-first ranking, random loss of the quieter ones. Ranked by the
+            # equivalent distance d_eff (the distance from which a max-volume message arrives
+            # as loud), which orders like the received volume and feeds the loss model.
             att = prof.attenuation_db_per_doubling
-            received = received_volume(
-                np.asarray(volumes)[:, None], dist, att, prof.reference_distance_m
-            )
-            key = np.where(audible, -received, np.inf)
-            order = np.argsort(key, axis=0, kind="stable")
-            rank = np.empty_like(order)
-            np.put_along_axis(rank, order, np.broadcast_to(arrival, order.shape), axis=0)
+            ref = prof.reference_distance_m
+            doublings = np.log2(np.maximum(dist, ref) * (1.0 / ref))
+            vol_term = (20.0 / att) * np.log10(np.asarray(volumes) * (1.0 / prof.max_volume))
+            d_eff = ref * np.exp2(doublings - vol_term[:, None])
+            order = np.argsort(np.where(audible, d_eff, np.inf), axis=0, kind="stable")
+            rank = np.argsort(order, axis=0)  # inverse permutation, column by column
             loud = audible & (rank < prof.always_heard)
             if math.isfinite(prof.loss_midpoint_m):
-                p_loss = loss_probability(
-                    received,
-                    prof.max_volume,
-                    prof.loss_midpoint_m,
-                    att,
-                    prof.reference_distance_m,
-                )
+                p_loss = 0.5 * np.tanh(d_eff * (math.pi / prof.loss_midpoint_m) - math.pi) + 0.5
                 survive = audible & (loud | (rng.random(dist.shape) >= p_loss))
             else:
                 survive = audible
@@ -340,6 +335,19 @@ class Channel:
                 chunks.append((lost, REASON_LOST))
             heard = survive
             sort_key = rank + 1
+            if not prof.self_echo:
+                # fast path: walk each listener's column in loudness order
+                ranked = np.take_along_axis(survive, order, axis=0)
+                kept = ranked & (np.cumsum(ranked, axis=0) <= prof.max_heard)
+                if not np.array_equal(kept, ranked):
+                    r, c = np.nonzero(ranked & ~kept)
+                    over = np.zeros_like(heard)
+                    over[order[r, c], c] = True
+                    chunks.append((over, REASON_MAX_HEARD))
+                li, r = np.nonzero(kept.T)
+                return self._assemble(
+                    speakers, texts, illegal, spk, chunks, rel, hd, is_self, same, order[r, li], li
+                )
         else:
             # simspark: range, then per-listener capacity in arrival order.
             cap = prof.capacity
@@ -374,15 +382,32 @@ class Channel:
                 chunks.append((over, REASON_MAX_HEARD))
                 li = li[keep]
                 si = si[keep]
+        return self._assemble(speakers, texts, illegal, spk, chunks, rel, hd, is_self, same, si, li)
+
+    def _assemble(
+        self,
+        speakers: list[int],
+        texts: list[str],
+        illegal: list[Drop],
+        spk: np.ndarray,
+        chunks: list,
+        rel: np.ndarray,
+        hd: np.ndarray,
+        is_self: np.ndarray,
+        same: np.ndarray,
+        si: np.ndarray,
+        li: np.ndarray,
+    ) -> Delivery:
+        """Build the Heard lists from (speaker slot, listener) pairs sorted per listener."""
         ang = np.arctan2(rel[si, li, 1], rel[si, li, 0]) - hd[li]
         ang = (ang + math.pi) % _TWO_PI - math.pi
-        q = prof.direction_quantum_deg
+        q = self.profile.direction_quantum_deg
         if q > 0.0:
-            ang = np.radians(np.trunc(np.degrees(ang) / q) * q)
+            ang = np.trunc(ang * (180.0 / math.pi / q)) * (q * math.pi / 180.0)
         pair_self = is_self[si, li]
         ang[pair_self] = 0.0
 
-        out: list[list[Heard]] = [[] for _ in range(n)]
+        out: list[list[Heard]] = [[] for _ in range(self.n_agents)]
         for lst_i, s_i, a, me, mate in zip(
             li.tolist(),
             si.tolist(),

@@ -359,3 +359,28 @@ def test_lazy_dropped_is_stable():
     first = list(d.dropped)
     assert d.dropped == first and len(first) == 22 * 21 - 22 * 2
     assert "Delivery(" in repr(d)
+
+
+def test_mj_fast_path_matches_generic_order():
+    n = 14
+    teams = [0] * 7 + [1] * 7
+    rng0 = np.random.default_rng(5)
+    pos = rng0.uniform(-40, 40, size=(n, 2))
+    hd = rng0.uniform(-3, 3, n)
+    utts = [Utterance(i, "AAAA", float(rng0.uniform(1, 100))) for i in range(n)]
+    fast = make_channel("mj", n, teams, max_heard=6)
+    slow = make_channel("mj", n, teams, max_heard=7, self_echo=True)
+    for seed in range(10):
+        a = fast.deliver(utts, pos, hd, np.random.default_rng(seed))
+        b = slow.deliver(utts, pos, hd, np.random.default_rng(seed))
+        for i in range(n):
+            assert b.heard[i][0].is_self and b.heard[i][0].speaker == i
+            assert b.heard[i][1:] == a.heard[i]
+            vols = [
+                utts[h.speaker].volume / max(1.0, float(np.hypot(*(pos[h.speaker] - pos[i]))))
+                for h in a.heard[i]
+            ]
+            assert vols[:3] == sorted(vols[:3], reverse=True)  # loudest first
+        assert {
+            (x.speaker, x.listener, x.reason) for x in a.dropped if x.reason != "max_heard"
+        } == {(x.speaker, x.listener, x.reason) for x in b.dropped if x.reason != "max_heard"}
