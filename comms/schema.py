@@ -583,7 +583,7 @@ class Schema:
                 lines.append(f"{'radix':>6} {lb:>5.1f}  {f.name:<16} {f.describe()}")
         if self.check_bits:
             lines.append(
-                f"{self.payload_bits:>6} {self.check_bits:>5}  {'(check)':<16} CRC-32 bits"
+                f"{self.payload_bits:>6} {self.check_bits:>5}  {'(check)':<16} CRC-32, low {self.check_bits} bits"
             )
         return "\n".join(lines)
 
