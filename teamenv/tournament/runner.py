@@ -230,6 +230,8 @@ class _Display:
         if self.enabled:
             self.live.update(self._renderable())
             self.live.__exit__(*exc)
+            if not self.console.is_terminal:
+                self.console.print()
 
     def advance(self, task: MatchTask, result: Any) -> None:
         if not self.enabled:

@@ -136,11 +136,13 @@ def rich_table(rows: Sequence[TableRow], ratings: Any | None = None, title: str 
 
     table = Table(title=title, title_justify="left")
     for col in ("#", "team", "P", "W", "D", "L", "GF", "GA", "GD", "Pts", "forfeits"):
-        table.add_column(col, justify="left" if col == "team" else "right")
+        table.add_column(col, justify="left" if col == "team" else "right",
+                         no_wrap=col == "team")
     if ratings is not None:
         pct = int(round(ratings.confidence * 100))
-        table.add_column(f"Elo ({pct}% CI)", justify="right")
-        table.add_column(f"BT ({pct}% CI)", justify="right")
+        table.caption = f"ratings: Elo / Bradley–Terry points [{pct}% bootstrap interval]"
+        table.add_column("Elo", justify="right", no_wrap=True)
+        table.add_column("BT", justify="right", no_wrap=True)
     for r in rows:
         cells = [str(r.rank), r.team, str(r.played), str(r.won), str(r.drawn), str(r.lost),
                  str(r.goals_for), str(r.goals_against), f"{r.goal_difference:+d}",

@@ -1,0 +1,204 @@
+"""The ``teamenv tournament`` commands: run (and resume), table, matches, list, replay."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+DEFAULT_NAME = "tournament"
+
+
+def add_tournament_commands(subparsers: argparse._SubParsersAction) -> None:
+    """Register ``tournament {run,table,matches,list,replay}`` on the ``teamenv`` parser.
+
+    Each command sets ``func(args) -> exit code``.
+    """
+    top = subparsers.add_parser(
+        "tournament", help="batch tournaments: run/resume, tables, ratings, plots, replays",
+        description="Batch strategy tournaments stored in SQLite.")
+    sub = top.add_subparsers(dest="tournament_command", required=True)
+
+    run = sub.add_parser("run", help="run (or --resume) a round robin or gauntlet")
+    run.add_argument("teams", nargs="*", help="team specs: name, module:Class, with optional "
+                     "overrides name:key=value,key2=value2 (a gauntlet's opponents)")
+    run.add_argument("--db", type=Path, required=True, help="results database (SQLite file)")
+    run.add_argument("--name", default=None, help=f"tournament name (default {DEFAULT_NAME!r})")
+    run.add_argument("--format", choices=("round-robin", "gauntlet"), default="round-robin")
+    run.add_argument("--challenger", default=None, help="the gauntlet's challenger spec")
+    run.add_argument("--games", type=int, default=2, help="seeded rounds per pairing")
+    run.add_argument("--no-swap", action="store_true", help="do not replay each round with "
+                     "sides swapped (default: each seed is played once from each side)")
+    run.add_argument("--seed", type=int, default=0, help="tournament seed")
+    run.add_argument("--field", default="simspark", help="simspark | mj7v7 | fifa")
+    run.add_argument("--team-size", type=int, default=None, help="players per side (1-11)")
+    run.add_argument("--half-time", type=float, default=300.0, help="length of a half (s)")
+    run.add_argument("--halves", type=int, default=2)
+    run.add_argument("--observation", default="state", help="observation mode of the teams")
+    run.add_argument("--channel", default="simspark", help="say channel: simspark | mj")
+    run.add_argument("--cycle-budget", type=float, default=None,
+                     help="a team whose act() takes longer (s) in any cycle forfeits")
+    run.add_argument("--stall-timeout", type=float, default=10.0,
+                     help="a cycle running longer than this (s) forfeits the acting team")
+    run.add_argument("-j", "--jobs", type=int, default=None,
+                     help="worker processes (default: all cores) / local Ray CPUs")
+    run.add_argument("--backend", choices=("process", "ray"), default="process")
+    run.add_argument("--ray-address", default=None, help="Ray cluster address (e.g. auto)")
+    run.add_argument("--replay-dir", type=Path, default=None, help="record every match here")
+    run.add_argument("--resume", action="store_true", help="continue a stored tournament: "
+                     "play only the missing matches (teams/options may be omitted)")
+    run.add_argument("--no-progress", action="store_true", help="no progress bar / live table")
+    _add_output_args(run)
+    run.set_defaults(func=_run)
+
+    table = sub.add_parser("table", help="league table and ratings of a stored tournament")
+    table.add_argument("--db", type=Path, required=True)
+    table.add_argument("--name", default=None, help="tournament (default: the only one)")
+    _add_output_args(table)
+    table.set_defaults(func=_table)
+
+    matches = sub.add_parser("matches", help="list the stored matches (ids for replay)")
+    matches.add_argument("--db", type=Path, required=True)
+    matches.add_argument("--name", default=None)
+    matches.set_defaults(func=_matches)
+
+    lst = sub.add_parser("list", help="list the tournaments in a database")
+    lst.add_argument("--db", type=Path, required=True)
+    lst.set_defaults(func=_list)
+
+    rep = sub.add_parser("replay", help="replay a stored match to a GIF/MP4 (needs [render])")
+    rep.add_argument("match_id", type=int, help="match id (see `tournament matches`)")
+    rep.add_argument("--db", type=Path, required=True)
+    rep.add_argument("--out", type=Path, default=None, help="GIF/MP4 to write")
+    rep.add_argument("--replay-out", type=Path, default=None, help="also keep the .npz here")
+    rep.add_argument("--fps", type=int, default=10)
+    rep.add_argument("--every", type=int, default=5, help="render every k-th cycle")
+    rep.add_argument("--no-verify", action="store_true",
+                     help="do not check the replayed score against the database")
+    rep.set_defaults(func=_replay)
+
+
+def _add_output_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--csv", type=Path, default=None, help="write the table + ratings as CSV")
+    p.add_argument("--json", type=Path, default=None, help="write the table + ratings as JSON")
+    p.add_argument("--plots", type=Path, default=None,
+                   help="write ratings.png and goal_difference.png into this folder")
+    p.add_argument("--bootstrap", type=int, default=200,
+                   help="bootstrap resamples for the rating intervals (0: none)")
+    p.add_argument("--ratings-seed", type=int, default=0, help="seed of the bootstrap")
+
+
+def _definition(args: argparse.Namespace) -> Any:
+    from teamenv.match import MatchOptions
+    from teamenv.tournament.schedule import Tournament
+
+    options = MatchOptions(field=args.field, team_size=args.team_size,
+                           half_time_s=args.half_time, halves=args.halves,
+                           observation_mode=args.observation, channel=args.channel)
+    return Tournament(
+        name=args.name or DEFAULT_NAME, teams=tuple(args.teams),
+        format=args.format.replace("-", "_"), challenger=args.challenger,
+        games_per_pairing=args.games, swap_sides=not args.no_swap, seed=args.seed,
+        options=options, cycle_time_budget_s=args.cycle_budget,
+        stall_timeout_s=args.stall_timeout)
+
+
+def _run(args: argparse.Namespace) -> int:
+    from rich.console import Console
+
+    from teamenv.tournament.runner import run_tournament
+
+    tournament = None if (args.resume and not args.teams and not args.challenger) \
+        else _definition(args)
+    console = Console()
+    try:
+        summary = run_tournament(tournament, args.db, name=args.name, resume=args.resume,
+                                 backend=args.backend, jobs=args.jobs,
+                                 ray_address=args.ray_address, replay_dir=args.replay_dir,
+                                 progress=not args.no_progress, console=console)
+    except KeyboardInterrupt:
+        return 130
+    console.print(summary.describe())
+    _report(args, summary.db_path, summary.tournament.name, console, print_table=args.no_progress)
+    return 0 if summary.complete else 1
+
+
+def _table(args: argparse.Namespace) -> int:
+    from rich.console import Console
+
+    _report(args, args.db, args.name, Console(), print_table=True)
+    return 0
+
+
+def _report(args: argparse.Namespace, db: Path, name: str | None, console: Any,
+            print_table: bool) -> None:
+    from teamenv.tournament.ratings import compute_ratings
+    from teamenv.tournament.store import ResultStore
+    from teamenv.tournament.table import (
+        goal_difference_matrix, league_table, rich_table, write_csv, write_json,
+    )
+
+    with ResultStore(db) as store:
+        tid, tournament = store.get_tournament(name)
+        records = store.matches(tid)
+        failures = store.failures(tid)
+        scheduled = len(tournament.schedule())
+    teams = [t.label for t in tournament.all_teams]
+    rows = league_table(records, teams)
+    ratings = compute_ratings(records, teams, n_bootstrap=args.bootstrap,
+                              seed=args.ratings_seed) if records else None
+    console.print(rich_table(rows, ratings, title=f"{tournament.name}: {len(records)}/"
+                             f"{scheduled} matches") if print_table or ratings else "")
+    for idx, err in failures:
+        console.print(f"match #{idx} missing: {err}")
+    extra = {"tournament": tournament.to_json(), "matches_stored": len(records),
+             "matches_scheduled": scheduled}
+    if args.csv:
+        console.print(f"csv: {write_csv(rows, args.csv, ratings)}")
+    if args.json:
+        console.print(f"json: {write_json(rows, args.json, ratings, extra)}")
+    if args.plots:
+        from teamenv.tournament.plots import plot_goal_difference, plot_ratings
+
+        if ratings is not None:
+            console.print(f"plot: {plot_ratings(ratings, args.plots / 'ratings.png')}")
+        matrix = goal_difference_matrix(records, teams)
+        console.print(f"plot: {plot_goal_difference(teams, matrix, args.plots / 'goal_difference.png')}")
+
+
+def _matches(args: argparse.Namespace) -> int:
+    from teamenv.tournament.store import ResultStore
+
+    with ResultStore(args.db) as store:
+        tid, tournament = store.get_tournament(args.name)
+        for r in store.matches(tid):
+            forfeit = f"  forfeit {r.forfeit_side}: {r.forfeit_reason}" if r.forfeit_side else ""
+            goals = " ".join(f"{g.time_s:.1f}s:{g.side}" for g in r.goals)
+            print(f"{r.id:6d}  #{r.idx:<5d} seed {r.seed:<10d} {r.left_team} "
+                  f"{r.left_score}-{r.right_score} {r.right_team}  {r.wall_s:.2f}s wall"
+                  f"{forfeit}  {goals}")
+    return 0
+
+
+def _list(args: argparse.Namespace) -> int:
+    from teamenv.tournament.store import ResultStore
+
+    with ResultStore(args.db) as store:
+        for name in store.tournament_names():
+            tid, tournament = store.get_tournament(name)
+            print(f"{name}: {tournament.format}, {len(tournament.all_teams)} teams, "
+                  f"{store.count_matches(tid)}/{len(tournament.schedule())} matches")
+    return 0
+
+
+def _replay(args: argparse.Namespace) -> int:
+    from teamenv.tournament.replays import match_replay
+
+    replay = match_replay(args.db, args.match_id, replay_out=args.replay_out,
+                          verify=not args.no_verify)
+    print(f"replay: {replay}")
+    if args.out:
+        from teamenv.render import render_replay_gif
+
+        print(f"video: {render_replay_gif(replay, args.out, fps=args.fps, every=args.every)}")
+    return 0
