@@ -2,9 +2,13 @@
 
 A leaf package (numpy only). Public API: `make_channel`, `Channel`, `Utterance`, `Heard`,
 `Drop`, `Delivery`, the profiles `SIMSPARK` / `MJ` (`PROFILES`, `get_profile`), and the
-exception types. Schemas and typed messages live in `comms.schema` and `comms.messages`.
+exception types; schemas (`Schema`, `Int`, `Bool`, `Enum`, `Fixed`, `Permutation`, `Array`,
+`decode_any`); the shipped message types in `comms.messages` (e.g.
+`comms.messages.role_vector_schema(11)`); the seed-002 grid world in `comms.gridworld`; test
+helpers in `comms.testing` and the pytest plugin `comms.pytest_plugin`.
 """
 
+from comms import messages  # declares the shipped schemas
 from comms.channel import (
     REASON_CAPACITY,
     REASON_INAUDIBLE,
@@ -44,8 +48,19 @@ from comms.profiles import (
     HearingCapacity,
     get_profile,
 )
+from comms.schema import Array, Bool, Enum, Field, Fixed, Int, Permutation, Schema, decode_any
 
 __all__ = [
+    "Array",
+    "Bool",
+    "Enum",
+    "Field",
+    "Fixed",
+    "Int",
+    "Permutation",
+    "Schema",
+    "decode_any",
+    "messages",
     "BASE64_ALPHABET",
     "MJ",
     "PROFILES",
