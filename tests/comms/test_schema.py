@@ -177,3 +177,13 @@ def test_decode_cache_returns_equal_immutable():
     t = s.encode(p=[4, 3, 2, 1, 0])
     assert s.decode(t) is s.decode(t)
     assert isinstance(s.decode(t).p, tuple)
+
+
+def test_too_big_schema_fails_at_import(tmp_path, monkeypatch):
+    (tmp_path / "team_msgs_too_big.py").write_text(
+        "from comms.schema import Int, Schema\n"
+        "MSG = Schema('huge', [Int(f'x{k}', 0, 2**30) for k in range(5)], channel='mj')\n"
+    )
+    monkeypatch.syspath_prepend(str(tmp_path))
+    with pytest.raises(BudgetError, match="schema 'huge' needs 155 bits"):
+        __import__("team_msgs_too_big")
