@@ -1,0 +1,38 @@
+"""The Ray backend on a local Ray instance gives the same results as the process pool."""
+
+from __future__ import annotations
+
+import sys
+
+import pytest
+
+from teamenv.errors import MissingExtraError
+from teamenv.match import MatchOptions
+from teamenv.tournament import ResultStore, round_robin, run_tournament
+from teamenv.tournament.backends import RayBackend, make_backend
+
+OPTIONS = MatchOptions(team_size=2, half_time_s=20.0, halves=1)
+
+
+def test_missing_ray_names_the_extra(monkeypatch):
+    monkeypatch.setitem(sys.modules, "ray", None)  # makes `import ray` fail
+    with pytest.raises(MissingExtraError, match=r"teamenv\[ray\]"):
+        make_backend("ray")
+
+
+@pytest.mark.ray
+def test_ray_backend_equals_process_pool(tmp_path):
+    ray = pytest.importorskip("ray", reason="the ray extra is installed in CI")
+    t = round_robin("ray", ["chaser", "static"], games_per_pairing=3, seed=11, options=OPTIONS)
+    pool = run_tournament(t, tmp_path / "pool.sqlite", jobs=2, progress=False)
+    ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
+    try:
+        backend = RayBackend()
+        on_ray = run_tournament(t, tmp_path / "ray.sqlite", backend=backend, progress=False)
+    finally:
+        ray.shutdown()
+    assert pool.complete and on_ray.complete and on_ray.backend == "ray"
+    with ResultStore(tmp_path / "pool.sqlite") as a, ResultStore(tmp_path / "ray.sqlite") as b:
+        got = [r.comparable() for r in b.matches(on_ray.tournament_id)]
+        want = [r.comparable() for r in a.matches(pool.tournament_id)]
+    assert len(got) == 6 and got == want
