@@ -145,7 +145,7 @@ def _dangerous(b: NDArray[np.float64], opp: NDArray[np.float64], here: NDArray[n
         if bad.any():
             i = int(np.flatnonzero(bad)[0])
             raise MarkingError(
-                f"opponents[{i}] = {tuple(opp[i])} is not finite (mark it not present)"
+                f"opponents[{i}] = {tuple(opp[i].tolist())} is not finite (mark it not present)"
             )
         ox, oy = np.nan_to_num(ox), np.nan_to_num(oy)
     d_goal = np.hypot(ox - goal_x, oy)

@@ -152,7 +152,7 @@ class Formation:
         if len(tri.coplanar):
             i = int(tri.coplanar[0, 0])
             raise FormationError(
-                f"{src}: samples[{i}].ball = {tuple(self._ball[i])} is degenerate: it is not a "
+                f"{src}: samples[{i}].ball = {tuple(self._ball[i].tolist())} is degenerate: it is not a "
                 f"vertex of the triangulation (too close to another sample)"
             )
         self._tri = tri

@@ -217,7 +217,7 @@ def assign_roles(
         if bad.any():
             i = int(np.flatnonzero(bad)[0])
             raise RoleAssignmentError(
-                f"assign_roles: players[{i}] = {tuple(p[i])} is not finite (mark it unavailable)"
+                f"assign_roles: players[{i}] = {tuple(p[i].tolist())} is not finite (mark it unavailable)"
             )
         dist = cdist(np.where(np.isfinite(p), p, 0.0), q)
     if fallen is not None:
