@@ -11,7 +11,7 @@ from teamenv.match import MatchOptions
 from teamenv.tournament import ResultStore, round_robin, run_tournament
 from teamenv.tournament.backends import RayBackend, make_backend
 
-OPTIONS = MatchOptions(team_size=2, half_time_s=20.0, halves=1)
+OPTIONS = MatchOptions(team_size=2, half_time_s=25.0, halves=1)
 
 
 def test_missing_ray_names_the_extra(monkeypatch):
@@ -23,7 +23,7 @@ def test_missing_ray_names_the_extra(monkeypatch):
 @pytest.mark.ray
 def test_ray_backend_equals_process_pool(tmp_path):
     ray = pytest.importorskip("ray", reason="the ray extra is installed in CI")
-    t = round_robin("ray", ["chaser", "static"], games_per_pairing=3, seed=11, options=OPTIONS)
+    t = round_robin("ray", ["chaser", "static"], games_per_pairing=2, seed=3, options=OPTIONS)
     pool = run_tournament(t, tmp_path / "pool.sqlite", jobs=2, progress=False)
     ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
     try:
@@ -35,4 +35,5 @@ def test_ray_backend_equals_process_pool(tmp_path):
     with ResultStore(tmp_path / "pool.sqlite") as a, ResultStore(tmp_path / "ray.sqlite") as b:
         got = [r.comparable() for r in b.matches(on_ray.tournament_id)]
         want = [r.comparable() for r in a.matches(pool.tournament_id)]
-    assert len(got) == 6 and got == want
+    assert len(got) == 4 and got == want
+    assert sum(len(r["goals"]) for r in got) >= 1  # seed 3 has a goal: events compared too

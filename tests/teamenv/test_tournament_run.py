@@ -74,7 +74,7 @@ def test_faulty_teams_forfeit_and_the_tournament_goes_on(tmp_path):
     t = gauntlet("faults", "static", [f"{FAULTY}:RaisingTeam", f"{FAULTY}:InvalidTeam",
                                       f"{FAULTY}:SlowTeam", f"{FAULTY}:StallingTeam"],
                  games_per_pairing=1, swap_sides=False, options=SHORT,
-                 cycle_time_budget_s=0.01, stall_timeout_s=1.0)
+                 cycle_time_budget_s=0.1, stall_timeout_s=1.0)
     s = run_tournament(t, db, jobs=2, progress=False)
     assert s.complete and s.played == 4
     with ResultStore(db) as store:
