@@ -384,3 +384,19 @@ def test_mj_fast_path_matches_generic_order():
         assert {
             (x.speaker, x.listener, x.reason) for x in a.dropped if x.reason != "max_heard"
         } == {(x.speaker, x.listener, x.reason) for x in b.dropped if x.reason != "max_heard"}
+
+
+def test_drop_counts_match_drop_list():
+    for name in ("simspark", "mj"):
+        ch = make_channel(name, 22, [0] * 11 + [1] * 11)
+        rng = np.random.default_rng(0)
+        pos = rng.uniform(-60, 60, size=(22, 2))
+        text = "AAAA" if name == "mj" else "x"
+        utts = [Utterance(i, text) for i in range(21)] + [Utterance(21, "(" * 30)]
+        for _ in range(3):
+            d = ch.deliver(utts, pos, np.zeros(22), rng)
+            counts = d.drop_counts()
+            expected: dict[str, int] = {}
+            for x in d.dropped:
+                expected[x.reason] = expected.get(x.reason, 0) + 1
+            assert counts == expected and d.drop_counts() == expected
