@@ -7,7 +7,10 @@ Imports the rest of teamenv (match runner, teams, replays); must never import ``
 from __future__ import annotations
 
 from teamenv.tournament.errors import (
-    StoreError, TeamSpecError, TournamentConfigError, TournamentError,
+    StoreError,
+    TeamSpecError,
+    TournamentConfigError,
+    TournamentError,
 )
 from teamenv.tournament.runner import TournamentSummary, run_tournament
 from teamenv.tournament.schedule import MatchTask, Tournament, gauntlet, round_robin

@@ -135,7 +135,11 @@ def _report(args: argparse.Namespace, db: Path, name: str | None, console: Any,
     from teamenv.tournament.ratings import compute_ratings
     from teamenv.tournament.store import ResultStore
     from teamenv.tournament.table import (
-        goal_difference_matrix, league_table, rich_table, write_csv, write_json,
+        goal_difference_matrix,
+        league_table,
+        rich_table,
+        write_csv,
+        write_json,
     )
 
     with ResultStore(db) as store:

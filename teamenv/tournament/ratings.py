@@ -8,8 +8,8 @@ Confidence intervals are percentile intervals over bootstrap resamples of whole 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
-from typing import Callable, Iterable, Sequence
 
 import numpy as np
 from scipy.optimize import minimize

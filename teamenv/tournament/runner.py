@@ -205,8 +205,14 @@ class _Display:
             return
         from rich.console import Console, Group
         from rich.live import Live
-        from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn,
-                                   TimeElapsedColumn, TimeRemainingColumn)
+        from rich.progress import (
+            BarColumn,
+            MofNCompleteColumn,
+            Progress,
+            TextColumn,
+            TimeElapsedColumn,
+            TimeRemainingColumn,
+        )
 
         self.console = console or Console()
         self.progress = Progress(TextColumn("[bold]{task.description}"), BarColumn(),

@@ -17,8 +17,9 @@ from __future__ import annotations
 import json
 import math
 import re
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
-from typing import Any, Iterable, Mapping
+from typing import Any
 
 from teamenv.errors import ConfigError, TeamLoadError
 from teamenv.tournament.errors import TeamSpecError, TournamentConfigError
@@ -139,9 +140,9 @@ def validate_specs(specs: Iterable[TeamSpec], options: Any) -> dict[str, str]:
     the left side, which calls ``make_team`` with the match's TeamContext), so an unknown team,
     an unknown override key or a value the team rejects fails here, before anything runs.
     """
+    from teamenv.config import RulesConfig
     from teamenv.env import SoccerParallelEnv
     from teamenv.match import MatchOptions
-    from teamenv.config import RulesConfig
     from teamenv.teams import team_version
 
     if not isinstance(options, MatchOptions):

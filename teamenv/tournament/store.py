@@ -12,9 +12,10 @@ from __future__ import annotations
 import json
 import sqlite3
 import time
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any
 
 from teamenv.match import Goal, MatchResult
 from teamenv.tournament.errors import StoreError
@@ -330,6 +331,6 @@ class ResultStore:
                 params):
             goals.setdefault(mid, []).append(Goal(t, side, sside, unum))
         for r in rows:
-            values = dict(zip(_MATCH_COLUMNS, r))
+            values = dict(zip(_MATCH_COLUMNS, r, strict=True))
             values["swapped"] = bool(values["swapped"])
             yield MatchRecord(**values, goals=tuple(goals.get(values["id"], ())))

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import csv
 import json
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Iterable, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -49,10 +50,8 @@ def league_table(records: Iterable, teams: Sequence[str] | None = None) -> list[
     """
     rows: dict[str, TableRow] = {t: TableRow(t) for t in teams or ()}
     for r in records:
-        for me, them, gf, ga, side in ((r.left_team, r.right_team, r.left_official,
-                                        r.right_official, "left"),
-                                       (r.right_team, r.left_team, r.right_official,
-                                        r.left_official, "right")):
+        for me, gf, ga, side in ((r.left_team, r.left_official, r.right_official, "left"),
+                                 (r.right_team, r.right_official, r.left_official, "right")):
             row = rows.setdefault(me, TableRow(me))
             row.played += 1
             row.goals_for += gf

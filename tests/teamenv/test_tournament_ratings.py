@@ -9,7 +9,13 @@ import numpy as np
 import pytest
 
 from teamenv.tournament.ratings import (
-    ELO_MEAN, ELO_SCALE, Game, bootstrap_intervals, bradley_terry, compute_ratings, elo,
+    ELO_MEAN,
+    ELO_SCALE,
+    Game,
+    bootstrap_intervals,
+    bradley_terry,
+    compute_ratings,
+    elo,
 )
 from teamenv.tournament.table import goal_difference_matrix, league_table, write_csv, write_json
 

@@ -10,7 +10,12 @@ import pytest
 
 from teamenv.match import MatchOptions
 from teamenv.tournament import (
-    ResultStore, StoreError, Tournament, gauntlet, round_robin, run_tournament,
+    ResultStore,
+    StoreError,
+    Tournament,
+    gauntlet,
+    round_robin,
+    run_tournament,
 )
 
 FAULTY = "tests.teamenv.tournament_faulty_teams"

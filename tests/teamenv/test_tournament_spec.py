@@ -7,8 +7,14 @@ import pytest
 from teamenv.errors import TeamLoadError
 from teamenv.match import MatchOptions
 from teamenv.tournament import (
-    TeamSpec, TeamSpecError, Tournament, TournamentConfigError, parse_team_spec, round_robin,
-    run_tournament, validate_specs,
+    TeamSpec,
+    TeamSpecError,
+    Tournament,
+    TournamentConfigError,
+    parse_team_spec,
+    round_robin,
+    run_tournament,
+    validate_specs,
 )
 from teamenv.tournament.store import ResultStore
 
