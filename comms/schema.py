@@ -18,6 +18,7 @@ from comms.profiles import ChannelProfile, get_profile
 
 _NAME_RE = re.compile(r"[A-Za-z][A-Za-z0-9_]*").fullmatch
 _CACHE_MAX = 4096
+_tuple_new = tuple.__new__  # builds a namedtuple from a list without Python-level calls
 
 
 def _check_name(name: Any, what: str) -> str:
@@ -65,6 +66,10 @@ class Field:
     def quantize(self, value: Any) -> Any:
         """The value the receiver will get for `value` (identity except for Fixed)."""
         return self.from_raw(self.to_raw(value))
+
+    def canonical(self, value: Any, raw: int) -> Any:
+        """What `from_raw(raw)` returns, given the encoded `value` (overridden where cheaper)."""
+        return self.from_raw(raw)
 
     def _bad(self, value: Any, why: str) -> EncodeError:
         return EncodeError(f"field {self.name!r}: value {value!r} {why}")
@@ -233,6 +238,10 @@ class Permutation(Field):
     def from_raw(self, raw: int) -> tuple[int, ...]:
         return tuple(lehmer_unrank(raw, self.n, self.start))
 
+    def canonical(self, value: Any, raw: int) -> tuple[int, ...]:
+        # `value` was just validated as a permutation: it is its own decoding
+        return tuple(map(int, value))
+
     def describe(self) -> str:
         return f"permutation of {self.start}..{self.start + self.n - 1}"
 
@@ -314,6 +323,8 @@ class Schema:
 
     `encode(values)` takes a mapping (or the Record, or keywords) and returns the text;
     `decode(text)` returns a `Record` (a namedtuple of the fields) or raises DecodeError.
+    Decoded Records are immutable and cached per text (up to 4096 per schema), and `encode`
+    primes that cache, so the 10 teammates decoding a text cost one dictionary lookup each.
     """
 
     def __init__(
@@ -457,11 +468,20 @@ class Schema:
                 f"got {type(values).__name__}"
             )
         v = self.tag or 0
+        decoded = []
         for (f, w), x in zip(self._enc, items, strict=True):
-            v += f.to_raw(x) * w
+            raw = f.to_raw(x)
+            v += raw * w
+            decoded.append(f.canonical(x, raw))
         if self.check_bits:
             v |= self._crc(v) << self.payload_bits
-        return self.codec.encode(v)
+        text = self.codec.encode(v)
+        # prime the decode cache: teammates in this process decode this text for free
+        cache = self._cache
+        if len(cache) >= _CACHE_MAX:
+            cache.clear()
+        cache[text] = _tuple_new(self.Record, decoded)
+        return text
 
     def _crc(self, payload: int) -> int:
         return (
@@ -517,7 +537,7 @@ class Schema:
                     f"0..{card - 1} in {text!r} (corrupt or another message type)"
                 )
             out.append(f.from_raw(raw))
-        rec = self.Record._make(out)
+        rec = _tuple_new(self.Record, out)
         cache = self._cache
         if len(cache) >= _CACHE_MAX:
             cache.clear()

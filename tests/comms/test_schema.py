@@ -187,3 +187,26 @@ def test_too_big_schema_fails_at_import(tmp_path, monkeypatch):
     monkeypatch.syspath_prepend(str(tmp_path))
     with pytest.raises(BudgetError, match="schema 'huge' needs 155 bits"):
         __import__("team_msgs_too_big")
+
+
+@pytest.mark.parametrize("schema", SCHEMAS, ids=repr)
+def test_encode_primed_cache_equals_cold_decode(schema):
+    rng = np.random.default_rng(11)
+    values = list(schema.extreme_values()) + [schema.random_values(rng) for _ in range(200)]
+    values.append(
+        {
+            **schema.random_values(rng)._asdict(),
+            "p": np.array([int(x) for x in rng.permutation(11)]),
+            "b": np.bool_(True),
+            "i": np.int16(-5),
+        }
+    )
+    for v in values:
+        if isinstance(v, dict) and "p" not in schema.field_names:
+            continue
+        text = schema.encode(v)
+        primed = schema.decode(text)
+        schema._cache.clear()
+        cold = schema.decode(text)
+        assert primed == cold
+        assert [type(x) for x in primed] == [type(x) for x in cold]
