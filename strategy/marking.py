@@ -31,6 +31,7 @@ import functools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -92,8 +93,7 @@ class MarkingParams:
         return replace(base, **values)  # type: ignore[arg-type]
 
 
-@dataclass(frozen=True)
-class MarkingResult:
+class MarkingResult(NamedTuple):
     """What marking did.
 
     Attributes:
@@ -135,32 +135,25 @@ def dangerous_opponents(
 
 def _dangerous(b: NDArray[np.float64], opp: NDArray[np.float64], here: NDArray[np.bool_] | None,
                goal_x: float, prm: MarkingParams) -> NDArray[np.intp]:
-    if len(opp) == 0 or (here is not None and not here.any()):
-        return np.zeros(0, dtype=np.intp)
-    ox, oy = opp[:, 0], opp[:, 1]
-    if not math.isfinite(float(opp.sum())):
-        bad = ~np.isfinite(opp).all(axis=1)
-        if here is not None:
-            bad &= here
-        if bad.any():
-            i = int(np.flatnonzero(bad)[0])
-            raise MarkingError(
-                f"opponents[{i}] = {tuple(opp[i].tolist())} is not finite (mark it not present)"
-            )
-        ox, oy = np.nan_to_num(ox), np.nan_to_num(oy)
-    d_goal = np.hypot(ox - goal_x, oy)
-    d_ball = np.hypot(ox - b[0], oy - b[1])
-    if here is not None:
-        d_ball = np.where(here, d_ball, np.inf)
-    ok = (d_goal <= prm.shoot_range_m) & (d_ball >= prm.min_ball_distance_m) & (
-        ox - b[0] <= prm.max_behind_ball_m)
-    if here is not None:
-        ok &= here
-    ok[int(d_ball.argmin())] = False  # the closest opponent to the ball (lowest index on ties)
-    idx = np.flatnonzero(ok)
-    if len(idx) > 1:
-        idx = idx[np.argsort(d_goal[idx], kind="stable")]
-    return idx
+    # A plain loop: for ~11 opponents it is several times cheaper than a dozen NumPy calls.
+    bx, by = float(b[0]), float(b[1])
+    flags = None if here is None else here.tolist()
+    closest, closest_d = -1, math.inf
+    found: list[tuple[float, int]] = []
+    for i, (x, y) in enumerate(opp.tolist()):
+        if flags is not None and not flags[i]:
+            continue
+        if not (math.isfinite(x) and math.isfinite(y)):
+            raise MarkingError(f"opponents[{i}] = ({x}, {y}) is not finite (mark it not present)")
+        d_ball = math.hypot(x - bx, y - by)
+        if d_ball < closest_d:  # strict: the lowest index wins ties
+            closest, closest_d = i, d_ball
+        d_goal = math.hypot(x - goal_x, y)
+        if (d_goal <= prm.shoot_range_m and d_ball >= prm.min_ball_distance_m
+                and x - bx <= prm.max_behind_ball_m):
+            found.append((d_goal, i))
+    found.sort()  # closest to our goal first (ties: lower index)
+    return np.array([i for _, i in found if i != closest], dtype=np.intp)
 
 
 def marking_positions(
@@ -174,11 +167,14 @@ def marking_positions(
 
 def _marking_positions(opp: NDArray[np.float64], goal_x: float,
                        mark_distance_m: float) -> NDArray[np.float64]:
-    d = np.array([goal_x, 0.0]) - opp
-    dist = np.hypot(d[:, 0], d[:, 1])
-    # the goal centre itself for an opponent closer to it than mark_distance_m
-    scale = np.minimum(dist, mark_distance_m) / np.maximum(dist, 1e-12)
-    return opp + d * scale[:, None]
+    out = []
+    for x, y in opp.tolist():  # a handful of opponents: a loop beats NumPy's call overhead
+        dx, dy = goal_x - x, -y
+        dist = math.hypot(dx, dy)
+        # the goal centre itself for an opponent closer to it than mark_distance_m
+        scale = min(dist, mark_distance_m) / dist if dist > 0 else 0.0
+        out.append((x + dx * scale, y + dy * scale))
+    return np.array(out, dtype=np.float64).reshape(-1, 2)
 
 
 def apply_marking(

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -80,8 +80,7 @@ def heard_texts(obs: Mapping[str, Any]) -> list[str]:
     return out
 
 
-@dataclass(frozen=True)
-class PositioningDecision:
+class PositioningDecision(NamedTuple):
     """One agent's positioning output for one cycle.
 
     Attributes:

@@ -17,6 +17,7 @@ A formation with a single sample is *static*: the same home positions for every 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Literal
@@ -126,7 +127,7 @@ class Formation:
         self._positions.flags.writeable = False
         self._flat = self._positions.reshape(s, n * 2)
         self._tri = None
-        self._tri_pos: NDArray[np.float64] | None = None
+        self._affine: NDArray[np.float64] | None = None
         if s >= 3:
             self._build_triangulation(src)
         elif s == 2:
@@ -156,9 +157,19 @@ class Formation:
                 f"vertex of the triangulation (too close to another sample)"
             )
         self._tri = tri
-        # (T, 3, 2N): the three corner samples' home positions per triangle, flattened.
-        self._tri_pos = self._flat[tri.simplices]
-        self._transform = tri.transform
+        # Per triangle, one affine map from (bx, by, 1) to the 2N flattened home positions:
+        # barycentric weights w = M @ (bx, by, 1) (from Qhull's transform), positions = w @ P
+        # with P the corners' home positions, so positions = (bx, by, 1) @ (M.T @ P).
+        t = tri.transform  # (T, 3, 2): rows 0-1 the inverse map T, row 2 the offset r
+        tmat, off = t[:, :2, :], t[:, 2, :]
+        tr = np.einsum("tij,tj->ti", tmat, off)
+        m = np.empty((len(t), 3, 3))
+        m[:, :2, :2] = tmat
+        m[:, :2, 2] = -tr
+        m[:, 2, :2] = -tmat.sum(axis=1)
+        m[:, 2, 2] = 1.0 + tr.sum(axis=1)
+        corners = self._flat[tri.simplices]  # (T, 3, 2N)
+        self._affine = np.einsum("tki,tkj->tij", m, corners)  # (T, 3, 2N)
         hull = tri.convex_hull  # (H, 2) sample index pairs
         self._hull = hull
         self._hull_a = self._ball[hull[:, 0]]
@@ -207,19 +218,15 @@ class Formation:
     def home_positions(self, ball: ArrayLike) -> NDArray[np.float64]:
         """Home positions (N, 2), metres, for one ball position (x, y) in metres."""
         b = np.asarray(ball, dtype=np.float64).reshape(-1)
-        if b.shape != (2,) or not np.isfinite(b).all():
+        if b.shape != (2,) or not math.isfinite(b[0] + b[1]):
             raise FormationError(
                 f"formation {self.name!r}: ball must be a finite (x, y) in metres, got {ball!r}"
             )
         if self._tri is None:
             return self._positions[0].copy()
-        tri = self._tri
-        s = int(tri.find_simplex(b))
+        s = int(self._tri.find_simplex(b))
         if s >= 0:
-            t = self._transform[s]
-            c = t[:2] @ (b - t[2])
-            w = np.array([c[0], c[1], 1.0 - c[0] - c[1]])
-            return (w @ self._tri_pos[s]).reshape(-1, 2)
+            return (np.array([b[0], b[1], 1.0]) @ self._affine[s]).reshape(-1, 2)
         return self._outside(b[None, :])[0]
 
     def home_positions_many(self, balls: ArrayLike) -> NDArray[np.float64]:
@@ -237,11 +244,9 @@ class Formation:
         s = self._tri.find_simplex(b)
         inside = s >= 0
         if inside.any():
-            si = s[inside]
-            t = self._transform[si]
-            c = np.einsum("mij,mj->mi", t[:, :2], b[inside] - t[:, 2])
-            w = np.column_stack([c, 1.0 - c.sum(axis=1)])
-            out[inside] = np.einsum("mk,mkj->mj", w, self._tri_pos[si])
+            bi = b[inside]
+            h = np.column_stack([bi, np.ones(len(bi))])
+            out[inside] = np.einsum("mk,mkj->mj", h, self._affine[s[inside]])
         result = out.reshape(m, n, 2)
         if (~inside).any():
             result[~inside] = self._outside(b[~inside])

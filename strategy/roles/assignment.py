@@ -26,7 +26,7 @@ The goalie (player ``goalie``) is fixed to the formation's goalie position.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -43,8 +43,7 @@ class RoleAssignmentError(TeamEnvError, ValueError):
     """Bad input to role assignment (shape, NaN, out-of-range goalie); names the field and value."""
 
 
-@dataclass(frozen=True)
-class Assignment:
+class Assignment(NamedTuple):
     """A role assignment.
 
     Attributes:
@@ -101,13 +100,20 @@ def solve_mmd_msd2(dist: NDArray[np.float64]) -> tuple[NDArray[np.intp], NDArray
     # Small arrays: Python's max over .tolist() is ~4x cheaper than a NumPy reduction.
     sq = dist * dist
     rows, cols = linear_sum_assignment(sq)
-    upper = max(dist[rows, cols].tolist())
     for _ in range(_TIGHTEN_ROUNDS):
+        walks = dist[rows, cols].tolist()
+        upper = max(walks)
+        k = walks.index(upper)
+        # Shortcut: the player with the longest walk has no position closer than ``upper``
+        # (or, square problems, its position no player closer): ``upper`` is optimal.
+        if min(dist[rows[k]].tolist()) >= upper or (
+                n == m and min(dist[:, cols[k]].tolist()) >= upper):
+            return rows, cols
         try:
             rows, cols = linear_sum_assignment(np.where(dist < upper, sq, np.inf))
         except ValueError:  # no perfect matching with every walk shorter than ``upper``
             return rows, cols
-        upper = max(dist[rows, cols].tolist())
+    upper = max(dist[rows, cols].tolist())
     # Rare (a few in 10^4 realistic scenes): finish by binary search between the bounds.
     lower = max(dist.min(axis=1).tolist())
     if n == m:
@@ -230,10 +236,11 @@ def assign_roles(
         position_of[r] = c
         d = dist[r, c]
     elif avail is None and goalie == 0 and goalie_position == 0:  # the usual case: a view
-        r, c = solver(dist[1:, 1:])
+        sub = dist[1:, 1:]
+        r, c = solver(sub)
         position_of[0] = 0
         position_of[r + 1] = c + 1
-        d = dist[r + 1, c + 1]
+        d = sub[r, c]
         g = float(dist[0, 0])
         return Assignment(position_of, max([*d.tolist(), g]), float(d @ d) + g * g)
     else:

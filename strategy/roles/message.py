@@ -38,8 +38,13 @@ def encode_role_vote(sender: int, vector: ArrayLike, n: int = 11,
 
     Raises ``comms.EncodeError`` if the sender or the vector does not fit the schema.
     """
-    roles = tuple(int(v) for v in np.asarray(vector).reshape(-1))
-    return role_vote_schema(n, channel).encode(sender=int(sender), roles=roles)
+    roles = tuple(np.asarray(vector).reshape(-1).tolist())
+    return _encode(int(sender), roles, n, channel)
+
+
+@functools.lru_cache(maxsize=4096)
+def _encode(sender: int, roles: tuple[int, ...], n: int, channel: str) -> str:
+    return role_vote_schema(n, channel).encode(sender=sender, roles=roles)
 
 
 def decode_role_vote(text: str, n: int = 11,

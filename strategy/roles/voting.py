@@ -151,10 +151,13 @@ class RoleVoter:
         self.max_age_cycles = int(max_age_cycles)
         self._vectors = np.zeros((self.n, self.n), dtype=np.intp)
         self._cycle = np.full(self.n, np.iinfo(np.int64).min // 2, dtype=np.int64)
+        self._last_key = b""
+        self._last_result = np.arange(self.n, dtype=np.intp)
 
     def reset(self) -> None:
         """Forget everything heard (new episode)."""
         self._cycle[:] = np.iinfo(np.int64).min // 2
+        self._last_key = b""
 
     def hear(self, speaker: int, vector: ArrayLike, cycle: int, validate: bool = True) -> None:
         """Record ``speaker``'s role vector, heard at ``cycle`` (it replaces an older one).
@@ -195,6 +198,8 @@ class RoleVoter:
         self._vectors[self.me] = own
         self._cycle[self.me] = cycle
         ballots = self._vectors[cycle - self._cycle <= self.max_age_cycles]
-        if (ballots == own).all():  # unanimous (the usual case once converged)
-            return ballots[0].copy()
-        return _tally(vote_matrix(ballots, self.n))
+        key = ballots.tobytes()  # the same ballots as last cycle: the same result
+        if key != self._last_key:
+            self._last_key = key
+            self._last_result = _tally(vote_matrix(ballots, self.n))
+        return self._last_result.copy()
