@@ -148,21 +148,26 @@ class Simulation:
         return [winner]
 
     def _deliver(self, say: Sequence[str], report: CycleReport) -> None:
+        """Hand this cycle's messages to the channel (every cycle: hearing capacities refill
+        there) and fill each listener's heard slots: own message first, then teammates', then
+        opponents'."""
         utterances = [comms.Utterance(i, text) for i, text in enumerate(say) if text]
         for slot in self._heard:
             if slot.info[:, 0].any():
                 slot.texts = [""] * self.heard_slots
                 slot.info[:] = 0.0
-        if not utterances:
-            report.heard = [[] for _ in range(self.n)]
-            return
         poses = self.world.player_poses()
         delivery = self.channel.deliver(utterances, poses[:, :2], poses[:, 2], self.rng)
         report.heard = delivery.heard
+        if not utterances:
+            return
         report.dropped = list(delivery.dropped)
         for listener, heard in enumerate(delivery.heard):
+            if not heard:
+                continue
             slot = self._heard[listener]
-            for k, msg in enumerate(heard[: self.heard_slots]):
+            ordered = sorted(heard, key=lambda m: 0 if m.is_self else (1 if m.teammate else 2))
+            for k, msg in enumerate(ordered[: self.heard_slots]):
                 slot.texts[k] = msg.text
                 slot.info[k] = (1.0, float(msg.is_self), float(msg.teammate), msg.direction)
 
