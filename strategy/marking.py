@@ -203,7 +203,7 @@ def apply_marking(
     opp = _points(opponents, "opponents")
     here = None if present is None else _mask(present, len(opp), "present")
     marked = _dangerous(b, opp, here, -spec.half_length, prm)
-    free = _free_positions(len(home), tuple(int(i) for i in protected))
+    free = _free_positions(len(home), tuple(protected))
     limit = len(free) if prm.max_markers is None else min(prm.max_markers, len(free))
     marked = marked[:limit]
     out = home.copy()
@@ -219,6 +219,7 @@ def apply_marking(
 
 @functools.lru_cache(maxsize=64)
 def _free_positions(n: int, protected: tuple[int, ...]) -> NDArray[np.intp]:
+    protected = tuple(int(i) for i in protected)
     for i in protected:
         if not 0 <= i < n:
             raise MarkingError(f"protected position {i} is not in 0..{n - 1}")
@@ -229,7 +230,7 @@ def _free_positions(n: int, protected: tuple[int, ...]) -> NDArray[np.intp]:
 
 def _point(value: ArrayLike, name: str) -> NDArray[np.float64]:
     a = np.asarray(value, dtype=np.float64).reshape(-1)
-    if a.shape != (2,) or not np.isfinite(a).all():
+    if a.shape != (2,) or not math.isfinite(a[0] + a[1]):
         raise MarkingError(f"{name} must be a finite (x, y) in metres, got {value!r}")
     return a
 

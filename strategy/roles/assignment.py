@@ -281,4 +281,4 @@ def _mask(value: ArrayLike, n: int, name: str) -> NDArray[np.bool_]:
     a = np.asarray(value)
     if a.shape != (n,):
         raise RoleAssignmentError(f"{name} must have shape ({n},), got shape {a.shape}")
-    return a.astype(bool)
+    return a if a.dtype == np.bool_ else a.astype(bool)
