@@ -115,6 +115,8 @@ class ProcessPoolBackend:
                     inflight.clear()
                     return
         finally:
+            if inflight:  # interrupted (Ctrl-C, generator closed) or broken: stop workers now
+                _terminate_workers(pool)
             pool.shutdown(wait=not inflight, cancel_futures=True)
 
     def _run_isolated(self, task: MatchTask) -> Outcome:
@@ -126,6 +128,15 @@ class ProcessPoolBackend:
                                            f"({exc})")
             except Exception as exc:
                 return Outcome(task, error=f"{type(exc).__name__}: {exc}")
+
+
+def _terminate_workers(pool: ProcessPoolExecutor) -> None:
+    """Kill a pool's worker processes (their matches are abandoned, not stored)."""
+    for process in list((getattr(pool, "_processes", None) or {}).values()):
+        try:
+            process.terminate()
+        except Exception:  # already gone
+            pass
 
 
 class RayBackend:

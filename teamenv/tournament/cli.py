@@ -103,14 +103,21 @@ def _definition(args: argparse.Namespace) -> Any:
         stall_timeout_s=args.stall_timeout)
 
 
-def _run(args: argparse.Namespace) -> int:
+def _console() -> Any:
+    """A rich Console; wide (160 columns) when the output is not a terminal (logs, pipes)."""
+    import sys
+
     from rich.console import Console
 
+    return Console(width=None if sys.stdout.isatty() else 160)
+
+
+def _run(args: argparse.Namespace) -> int:
     from teamenv.tournament.runner import run_tournament
 
     tournament = None if (args.resume and not args.teams and not args.challenger) \
         else _definition(args)
-    console = Console()
+    console = _console()
     try:
         summary = run_tournament(tournament, args.db, name=args.name, resume=args.resume,
                                  backend=args.backend, jobs=args.jobs,
@@ -124,9 +131,7 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _table(args: argparse.Namespace) -> int:
-    from rich.console import Console
-
-    _report(args, args.db, args.name, Console(), print_table=True)
+    _report(args, args.db, args.name, _console(), print_table=True)
     return 0
 
 
@@ -137,6 +142,7 @@ def _report(args: argparse.Namespace, db: Path, name: str | None, console: Any,
     from teamenv.tournament.table import (
         goal_difference_matrix,
         league_table,
+        rich_ratings,
         rich_table,
         write_csv,
         write_json,
@@ -151,8 +157,11 @@ def _report(args: argparse.Namespace, db: Path, name: str | None, console: Any,
     rows = league_table(records, teams)
     ratings = compute_ratings(records, teams, n_bootstrap=args.bootstrap,
                               seed=args.ratings_seed) if records else None
-    console.print(rich_table(rows, ratings, title=f"{tournament.name}: {len(records)}/"
-                             f"{scheduled} matches") if print_table or ratings else "")
+    if print_table:
+        console.print(rich_table(rows, title=f"{tournament.name}: {len(records)}/{scheduled} "
+                                 "matches"))
+    if ratings is not None:
+        console.print(rich_ratings(ratings, title=f"{tournament.name}: ratings"))
     for idx, err in failures:
         console.print(f"match #{idx} missing: {err}")
     extra = {"tournament": tournament.to_json(), "matches_stored": len(records),

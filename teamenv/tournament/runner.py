@@ -201,9 +201,11 @@ class _Display:
         self.rows = rows
         self.title = f"{tournament.name} ({tournament.format.replace('_', ' ')})"
         self._last = 0.0
+        from rich.console import Console, Group
+
+        self.console = console or Console(stderr=not enabled)
         if not enabled:
             return
-        from rich.console import Console, Group
         from rich.live import Live
         from rich.progress import (
             BarColumn,
@@ -214,7 +216,6 @@ class _Display:
             TimeRemainingColumn,
         )
 
-        self.console = console or Console()
         self.progress = Progress(TextColumn("[bold]{task.description}"), BarColumn(),
                                  MofNCompleteColumn(), TimeElapsedColumn(), TimeRemainingColumn(),
                                  TextColumn("{task.fields[last]}"), console=self.console)
@@ -252,8 +253,8 @@ class _Display:
             self.live.update(self._renderable())
 
     def note(self, text: str) -> None:
-        self.console_print(text)
-
-    def console_print(self, text: str) -> None:
         if self.enabled:
             self.console.print(text)
+
+    def console_print(self, text: str) -> None:
+        self.console.print(text)

@@ -262,11 +262,22 @@ class ResultStore:
 
         Returns False (and writes nothing) when the match is already stored.
         """
+        if self._has_match(tournament_id, task):
+            return False
+        try:
+            return self._insert_match(tournament_id, task, result)
+        except sqlite3.IntegrityError as exc:
+            if self._has_match(tournament_id, task):  # another writer stored it meanwhile
+                return False
+            raise StoreError(f"database {str(self.path)!r}: cannot store match "
+                             f"#{task.index} ({task.pairing}, seed {task.seed}): {exc}") from exc
+
+    def _insert_match(self, tournament_id: int, task: MatchTask, result: MatchResult) -> bool:
         fo = result.forfeit
         official = result.official_score
         with self._transaction() as conn:
             cur = conn.execute(
-                "INSERT OR IGNORE INTO matches (tournament_id, idx, round, pairing, seed, "
+                "INSERT INTO matches (tournament_id, idx, round, pairing, seed, "
                 "swapped, match_key, left_team, right_team, left_score, right_score, "
                 "left_official, right_official, forfeit_side, forfeit_reason, forfeit_detail, "
                 "forfeit_time_s, cycles, wall_s, left_version, right_version, left_team_time_s, "
@@ -280,14 +291,19 @@ class ResultStore:
                  result.team_versions[0], result.team_versions[1],
                  float(result.team_time_s[0]), float(result.team_time_s[1]), task.replay_path,
                  _utc()))
-            if cur.rowcount == 0:
-                return False
             match_id = cur.lastrowid
             conn.executemany(
                 "INSERT INTO goals VALUES (?, ?, ?, ?, ?, ?)",
                 [(match_id, n, float(g.time_s), g.side, g.scorer_side, g.scorer_unum)
                  for n, g in enumerate(result.goals)])
         return True
+
+    def _has_match(self, tournament_id: int, task: MatchTask) -> bool:
+        row = self.conn.execute(
+            "SELECT 1 FROM matches WHERE tournament_id=? AND ((pairing=? AND seed=? AND "
+            "swapped=?) OR idx=?)",
+            (tournament_id, task.pairing, task.seed, int(task.swapped), task.index)).fetchone()
+        return row is not None
 
     def record_failure(self, tournament_id: int, task: MatchTask, error: str) -> None:
         """Note a match that could not be played (it is not a result; resume retries it)."""

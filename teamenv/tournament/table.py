@@ -128,29 +128,38 @@ def write_json(rows: Sequence[TableRow], path: str | Path, ratings: Any | None =
     return path
 
 
-def rich_table(rows: Sequence[TableRow], ratings: Any | None = None, title: str | None = None,
-               total: int | None = None) -> Any:
-    """A rich Table of the league (with ratings ± interval half-widths when given)."""
+def rich_table(rows: Sequence[TableRow], title: str | None = None) -> Any:
+    """A rich Table of the league: rank, W/D/L, goals, goal difference, points, forfeits."""
     from rich.table import Table
 
     table = Table(title=title, title_justify="left")
     for col in ("#", "team", "P", "W", "D", "L", "GF", "GA", "GD", "Pts", "forfeits"):
-        table.add_column(col, justify="left" if col == "team" else "right",
-                         no_wrap=col == "team")
-    if ratings is not None:
-        pct = int(round(ratings.confidence * 100))
-        table.caption = f"ratings: Elo / Bradley–Terry points [{pct}% bootstrap interval]"
-        table.add_column("Elo", justify="right", no_wrap=True)
-        table.add_column("BT", justify="right", no_wrap=True)
+        if col == "team":
+            table.add_column(col, overflow="fold", ratio=1, min_width=12)
+        else:
+            table.add_column(col, justify="right", no_wrap=col != "forfeits")
     for r in rows:
-        cells = [str(r.rank), r.team, str(r.played), str(r.won), str(r.drawn), str(r.lost),
-                 str(r.goals_for), str(r.goals_against), f"{r.goal_difference:+d}",
-                 str(r.points), _forfeits(r)]
-        if ratings is not None:
-            for t in (ratings.elo, ratings.bradley_terry):
-                x = t.get(r.team)
-                cells.append(f"{x.rating:.0f} [{x.low:.0f}, {x.high:.0f}]" if x else "-")
-        table.add_row(*cells)
+        table.add_row(str(r.rank), r.team, str(r.played), str(r.won), str(r.drawn), str(r.lost),
+                      str(r.goals_for), str(r.goals_against), f"{r.goal_difference:+d}",
+                      str(r.points), _forfeits(r))
+    return table
+
+
+def rich_ratings(ratings: Any, title: str | None = None) -> Any:
+    """A rich Table of Elo and Bradley–Terry ratings (points) with their intervals."""
+    from rich.table import Table
+
+    pct = int(round(ratings.confidence * 100))
+    table = Table(title=title, title_justify="left",
+                  caption=f"{pct}% bootstrap intervals, {ratings.n_bootstrap} resamples of "
+                          f"{ratings.n_games} matches", caption_justify="left")
+    table.add_column("team", overflow="fold", ratio=1, min_width=12)
+    for name in ("BT", "BT interval", "Elo", "Elo interval"):
+        table.add_column(name, justify="right", no_wrap=True)
+    for team, bt in ratings.bradley_terry.items():
+        el = ratings.elo[team]
+        table.add_row(team, f"{bt.rating:.0f}", f"[{bt.low:.0f}, {bt.high:.0f}]",
+                      f"{el.rating:.0f}", f"[{el.low:.0f}, {el.high:.0f}]")
     return table
 
 
@@ -161,5 +170,5 @@ def _forfeits(row: TableRow) -> str:
                                            sorted(row.forfeit_reasons.items())) + ")"
 
 
-__all__ = ["TableRow", "goal_difference_matrix", "league_table", "rich_table", "write_csv",
-           "write_json"]
+__all__ = ["TableRow", "goal_difference_matrix", "league_table", "rich_ratings", "rich_table",
+           "write_csv", "write_json"]

@@ -9,7 +9,7 @@ import pytest
 from teamenv.errors import MissingExtraError
 from teamenv.match import MatchOptions
 from teamenv.tournament import ResultStore, round_robin, run_tournament
-from teamenv.tournament.backends import RayBackend, make_backend
+from teamenv.tournament.backends import make_backend
 
 OPTIONS = MatchOptions(team_size=2, half_time_s=25.0, halves=1)
 
@@ -25,12 +25,9 @@ def test_ray_backend_equals_process_pool(tmp_path):
     ray = pytest.importorskip("ray", reason="the ray extra is installed in CI")
     t = round_robin("ray", ["chaser", "static"], games_per_pairing=2, seed=3, options=OPTIONS)
     pool = run_tournament(t, tmp_path / "pool.sqlite", jobs=2, progress=False)
-    ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
-    try:
-        backend = RayBackend()
-        on_ray = run_tournament(t, tmp_path / "ray.sqlite", backend=backend, progress=False)
-    finally:
-        ray.shutdown()
+    # the backend starts a local instance: ray.init(num_cpus=2, include_dashboard=False)
+    on_ray = run_tournament(t, tmp_path / "ray.sqlite", backend="ray", jobs=2, progress=False)
+    assert not ray.is_initialized()  # and shuts down what it started
     assert pool.complete and on_ray.complete and on_ray.backend == "ray"
     with ResultStore(tmp_path / "pool.sqlite") as a, ResultStore(tmp_path / "ray.sqlite") as b:
         got = [r.comparable() for r in b.matches(on_ray.tournament_id)]

@@ -31,10 +31,12 @@ def _count(db: Path) -> int:
 
 def _cli(db: Path, *extra: str) -> subprocess.Popen:
     env = dict(os.environ, PYTHONPATH=f"{ROOT}{os.pathsep}{os.environ.get('PYTHONPATH', '')}")
+    # SIGINT may be ignored by whatever started pytest; the CLI must see Ctrl-C as a user would
     return subprocess.Popen([sys.executable, "-m", "teamenv.tournament", "run", *extra,
                              "--db", str(db), "-j", "2", "--no-progress", "--bootstrap", "0"],
                             cwd=ROOT, env=env, stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, start_new_session=True)
+                            stderr=subprocess.STDOUT, start_new_session=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
 
 
 def test_resume_after_sigkill_matches_uninterrupted_run(tmp_path):
@@ -72,3 +74,25 @@ def test_resume_after_sigkill_matches_uninterrupted_run(tmp_path):
         assert goals >= 1  # seed 3 has a goal in round 0: goal events are compared too
     assert len(got) == 12
     assert got == want
+
+
+def test_ctrl_c_stops_cleanly_and_resume_completes(tmp_path):
+    db = tmp_path / "int.sqlite"
+    proc = _cli(db, "chaser", "static", "--team-size", "2", "--half-time", "3", "--halves",
+                "1", "--games", "6", "--name", "int")
+    deadline = time.monotonic() + 120
+    while _count(db) < 2 and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.05)
+    os.killpg(proc.pid, signal.SIGINT)  # Ctrl-C reaches the CLI and its workers
+    out, _ = proc.communicate(timeout=60)
+    stored = _count(db)
+    if proc.returncode == 0:  # finished before the signal landed: nothing to resume
+        assert stored == 12
+        return
+    assert proc.returncode == 130, out.decode()
+    assert "continue with --resume" in out.decode()
+    resumed = _cli(db, "--resume", "--name", "int")
+    out, _ = resumed.communicate(timeout=120)
+    assert resumed.returncode == 0, out.decode()
+    assert f"played {12 - stored} now ({stored} were stored)" in out.decode()
+    assert _count(db) == 12
