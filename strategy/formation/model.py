@@ -140,8 +140,13 @@ class Formation:
     def _build_triangulation(self, src: str) -> None:
         from scipy.spatial import Delaunay, QhullError
 
+        # Collinear if every sample lies within MIN_SAMPLE_SEPARATION_M of the line through the
+        # centroid and the farthest sample (no LAPACK: its thread pool is slow to wake up).
         centred = self._ball - self._ball.mean(axis=0)
-        if np.linalg.matrix_rank(centred, tol=MIN_SAMPLE_SEPARATION_M) < 2:
+        far = centred[np.argmax(np.einsum("ij,ij->i", centred, centred))]
+        unit = far / max(float(np.hypot(*far)), 1e-12)
+        off_line = np.abs(centred[:, 0] * unit[1] - centred[:, 1] * unit[0])
+        if float(off_line.max()) < MIN_SAMPLE_SEPARATION_M:
             raise FormationError(
                 f"{src}: samples: the {len(self._ball)} sample ball positions are degenerate "
                 f"(all on one line); they cannot be triangulated"
@@ -160,7 +165,7 @@ class Formation:
         # Per triangle, one affine map from (bx, by, 1) to the 2N flattened home positions:
         # barycentric weights w = M @ (bx, by, 1) (from Qhull's transform), positions = w @ P
         # with P the corners' home positions, so positions = (bx, by, 1) @ (M.T @ P).
-        t = tri.transform  # (T, 3, 2): rows 0-1 the inverse map T, row 2 the offset r
+        t = _barycentric_transforms(tri)  # (T, 3, 2): rows 0-1 the inverse map, row 2 offset
         tmat, off = t[:, :2, :], t[:, 2, :]
         tr = np.einsum("tij,tj->ti", tmat, off)
         m = np.empty((len(t), 3, 3))
@@ -310,6 +315,22 @@ class Formation:
             f"Formation(name={self.name!r}, players={self.n_players}, samples={self.n_samples}, "
             f"field={self.field_size[0]:g}x{self.field_size[1]:g} m, outside={self.outside!r})"
         )
+
+
+def _barycentric_transforms(tri: object) -> NDArray[np.float64]:
+    """``tri.transform``, computed with BLAS limited to one thread.
+
+    SciPy computes it (also lazily, inside the first ``find_simplex``) with one small LAPACK
+    call per triangle; with a multi-threaded OpenBLAS on a busy machine every call waits for
+    the thread pool, measured at ~1.2 s for 64 triangles instead of 0.5 ms. Once computed it
+    is cached on ``tri`` and lookups make no BLAS call.
+    """
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:  # pragma: no cover - threadpoolctl comes with scikit-learn
+        return tri.transform  # type: ignore[attr-defined]
+    with threadpool_limits(limits=1, user_api="blas"):
+        return tri.transform  # type: ignore[attr-defined]
 
 
 def _field_size(field: str | FieldSpec | tuple[float, float], src: str) -> tuple[float, float]:

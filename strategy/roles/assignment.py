@@ -230,19 +230,20 @@ def assign_roles(
         fall = _mask(fallen, n, "fallen")
         if max(fall.tolist(), default=False):
             dist[fall] += float(fallen_penalty_m)
+    if avail is None and goalie == 0 and goalie_position == 0:  # the usual case: a view
+        sub = dist[1:, 1:]
+        r, c = solver(sub)  # square: r is 0..n-2 in order
+        position_of = np.empty(n, dtype=np.intp)
+        position_of[0] = 0
+        np.add(c, 1, out=position_of[1:])
+        walks = sub[r, c].tolist()
+        g = float(dist[0, 0])
+        return Assignment(position_of, max([*walks, g]), math.fsum(w * w for w in walks) + g * g)
     position_of = np.full(n, -1, dtype=np.intp)
     if avail is None and goalie is None:
         r, c = solver(dist)
         position_of[r] = c
         d = dist[r, c]
-    elif avail is None and goalie == 0 and goalie_position == 0:  # the usual case: a view
-        sub = dist[1:, 1:]
-        r, c = solver(sub)
-        position_of[0] = 0
-        position_of[r + 1] = c + 1
-        d = sub[r, c]
-        g = float(dist[0, 0])
-        return Assignment(position_of, max([*d.tolist(), g]), float(d @ d) + g * g)
     else:
         free_rows = np.ones(n, dtype=bool) if avail is None else avail.copy()
         free_cols = np.ones(n, dtype=bool)
