@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import resource
 import tempfile
 import time
 from dataclasses import replace
@@ -41,22 +42,29 @@ def main() -> None:
           f"load average {os.getloadavg()[0]:.2f} at start")
 
     start = time.perf_counter()
+    cpu0 = time.process_time()
     results = [execute_task(task) for task in tasks]
     serial = time.perf_counter() - start
+    serial_cpu = time.process_time() - cpu0
     per_match = serial / len(tasks)
     print(f"in-process serial (no pool, no DB): {serial:7.1f} s  "
-          f"{60 / per_match:6.1f} matches/min  ({per_match:.2f} s/match)")
+          f"{60 / per_match:6.1f} matches/min  ({per_match:.2f} s/match, "
+          f"{serial_cpu / len(tasks):.2f} CPU-s/match)")
 
     rates = {}
     with tempfile.TemporaryDirectory() as tmp:
         for jobs in (1, 2):
+            before = resource.getrusage(resource.RUSAGE_CHILDREN)
             s = run_tournament(replace(t, name=f"bench-j{jobs}"), Path(tmp) / f"j{jobs}.sqlite",
                                jobs=jobs, progress=False)
+            after = resource.getrusage(resource.RUSAGE_CHILDREN)  # workers are reaped by now
+            cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
             assert s.complete, s.describe()
             rates[jobs] = s.matches_per_minute
             print(f"run_tournament -j {jobs}:              {s.wall_s:7.1f} s  "
                   f"{s.matches_per_minute:6.1f} matches/min  (DB writes "
-                  f"{1e3 * s.db_write_s / s.played:.2f} ms/match in the parent)")
+                  f"{1e3 * s.db_write_s / s.played:.2f} ms/match in the parent; workers used "
+                  f"{cpu:.1f} CPU-s = {cpu / s.wall_s:.2f} cores busy on average)")
         print(f"scaling -j 2 / -j 1: {rates[2] / rates[1]:.2f}x  "
               f"(-j 1 vs in-process: {rates[1] * per_match / 60:.2f}x)")
 
