@@ -75,8 +75,8 @@ def run_tournament(
 
     ``tournament``: the definition; None with ``resume=True`` reloads it from ``db`` (by
     ``name``, or the only tournament there). Without ``resume`` the name must be new in ``db``.
-    With ``resume`` a given definition must equal the stored one, and only matches not yet
-    stored are played. Every team spec and the match options are checked (each team is built
+    With ``resume`` a given definition must equal the stored one (or is started when it is not
+    stored yet), and only matches not yet stored are played. Every team spec and the match options are checked (each team is built
     once) before anything runs. ``backend``: "process" (``jobs`` workers, default all cores),
     "ray" (``jobs`` local CPUs, or the cluster at ``ray_address``) or a Backend object.
     ``replay_dir``: record a replay (.npz) of every match there. ``progress``: show a rich
@@ -105,8 +105,9 @@ def _run(store: ResultStore, tournament: Tournament | None, name: str | None, re
         raise StoreError(f"database {str(store.path)!r}: tournament {lookup!r} already exists; "
                          "resume it (--resume) or choose another name")
     if found is None and tournament is None:
-        raise StoreError(f"database {str(store.path)!r}: no tournament {lookup!r} to resume; it "
-                         f"holds {store.tournament_names()}")
+        what = f"tournament {lookup!r}" if lookup else "tournament"
+        raise StoreError(f"database {str(store.path)!r}: no {what} to resume; it holds "
+                         f"{store.tournament_names()} (give the teams to start one)")
     if found is not None and tournament is not None and \
             found[1].definition_hash() != tournament.definition_hash():
         raise StoreError(_definition_mismatch(found[1], tournament))

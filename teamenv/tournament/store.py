@@ -205,6 +205,8 @@ class ResultStore:
         """The stored (id, definition) of ``name`` (or of the only tournament when None)."""
         if name is None:
             names = self.tournament_names()
+            if not names:
+                return None
             if len(names) != 1:
                 raise StoreError(f"database {str(self.path)!r} holds {len(names)} tournaments "
                                  f"{names}; name one")
