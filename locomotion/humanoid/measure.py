@@ -149,11 +149,13 @@ def bisect_threshold_mujoco(direction: str, lo: float = 0.0, hi: float = 2.0, to
 
 def _versions() -> dict[str, str]:
     out = {"python": platform.python_version()}
+    from importlib import metadata
+
     for mod in ("mujoco", "jax", "brax", "rcsssmj", "numpy"):
         try:
-            out[mod] = str(require(mod).__version__)
-        except (ImportError, AttributeError):
-            out[mod] = "unknown"
+            out[mod] = metadata.version(mod)
+        except metadata.PackageNotFoundError:
+            out[mod] = "not installed"
     return out
 
 
@@ -182,6 +184,7 @@ def measurements_to_profile(
             "value": round(float(value), 4), "unit": unit, "kind": "measured-humanoid",
             "source": f"locomotion.humanoid.measure: {what}; T1 from rcsssmj under joint PD, "
                       f"engine {engine} ({vtext}); command: {command}",
+            "note": f"replaces {entry['value']!r} ({entry['kind']}: {entry['source']})"[:400],
         }
         written.append(name)
 
