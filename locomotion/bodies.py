@@ -195,103 +195,128 @@ class Bodies:
         up = self.down_left <= 0.0 if any_down else self._all_true
         # ---- falls from collisions and pushes (decided at the start of the cycle)
         fell = self._all_false
-        hit = impacts > self._j_lo
-        if hit.any():
+        fell_any = False
+        if impacts.max() > self._j_lo:
             prob = np.clip((impacts - self._j_lo) / max(self._j_hi - self._j_lo, _EPS), 0.0, 1.0)
-            fell = fell | (hit & up & (rng.random(n) < prob))
+            fell = (impacts > self._j_lo) & up & (rng.random(n) < prob)
+            fell_any = bool(np.count_nonzero(fell))
         if self._pushed:
             spd = np.hypot(self._push[:, 0], self._push[:, 1])
             thr = self.push_threshold(np.arctan2(self._push[:, 1], self._push[:, 0]))
             fell = fell | (up & (spd >= thr) & (spd > 0.0))
+            fell_any = bool(np.count_nonzero(fell))
             self._push[:] = 0.0
             self._pushed = False
 
         # ---- kicks start
         kicking = self._all_false
-        if kick_request.any() or self._n_kicking:
-            can_act = up & ~fell & (self.kick_elapsed < 0.0)
-            start = can_act & kick_request & (kick_power > 0.0)
-            if start.any():
+        kick_active = False
+        if self._n_kicking or np.count_nonzero(kick_request):
+            start = kick_request & (kick_power > 0.0) & (self.kick_elapsed < 0.0)
+            if any_down:
+                start &= up
+            if fell_any:
+                start &= ~fell
+            if np.count_nonzero(start):
                 self.kick_elapsed[start] = 0.0
                 self.kick_power[start] = np.clip(kick_power[start], 0.0, 1.0)
                 self.kick_aim[start] = kick_dir[start]
             kicking = self.kick_elapsed >= 0.0
-        walking = up & ~fell & ~kicking
+            kick_active = bool(np.count_nonzero(kicking))
+        all_walk = not (any_down or fell_any or kick_active)
+        if all_walk:
+            walking = self._all_true
+        else:
+            walking = up
+            if fell_any:
+                walking = walking & ~fell
+            if kick_active:
+                walking = walking & ~kicking
 
         # ---- walk: constant velocity within a step, eq. 4, switch at step boundaries
         vel = self.velocity
         phase = self.phase
-        boundary = walking & (phase + dt >= T - _EPS)
-        if boundary.any():
+        boundary = phase + dt >= T - _EPS
+        if not all_walk:
+            boundary &= walking
+        if dt != self._cache_dt:  # displacement over dt at the current velocities
+            self._cache = omni_displacement(vel, dt)
+            self._cache_dt = dt
+        if np.count_nonzero(boundary):
             tb = np.where(boundary, np.maximum(T - phase, 0.0), dt)
-            d1 = omni_displacement(vel, tb)
             target = apply_envelope(track(walk_cmd, self.profile.tracking), *self._env)
             change = target - vel
             lim = np.where(change[:, :1] >= 0.0, self._lim_fwd, self._lim_back)
             jump = np.sqrt(np.sum((change / lim) ** 2, axis=1))
             risky = boundary & (jump > self.profile.command_jump_threshold)
-            if risky.any():
+            if np.count_nonzero(risky):
                 fell = fell | (risky & (rng.random(n) < self.profile.command_jump_fall_probability))
+                fell_any = bool(np.count_nonzero(fell))
             new_vel = apply_envelope(vel + np.clip(change, -self._dv, self._dv), *self._env)
-            vel = np.where(boundary[:, None], new_vel, vel)
-            d2 = omni_displacement(vel, dt - tb)
-            delta = compose(d1, d2)
+            if (tb < dt - _EPS).any():  # a boundary inside the cycle: split it exactly
+                d1 = omni_displacement(vel, tb)
+                vel = np.where(boundary[:, None], new_vel, vel)
+                delta = compose(d1, omni_displacement(vel, dt - tb))
+            else:  # every boundary falls at the end of the cycle (T a multiple of dt)
+                delta = self._cache.copy()
+                vel = np.where(boundary[:, None], new_vel, vel)
             phase = np.where(boundary, np.maximum(phase + dt - T, 0.0), phase + dt)
             self._cache_dt = -1.0
         else:
-            if dt != self._cache_dt:
-                self._cache = omni_displacement(vel, dt)
-                self._cache_dt = dt
             delta = self._cache.copy()
             phase = phase + dt
-        if fell.any() or any_down or self._n_kicking or kicking is not self._all_false:
-            moving = walking & ~fell
-            delta *= moving[:, None]
-            if not moving.all():
-                vel = vel * moving[:, None]
-                self._cache_dt = -1.0
-            # bodies that cannot walk wait at a step boundary: their first step starts at once
+        if not all_walk or fell_any:
+            moving = walking & ~fell if fell_any else walking
+            mcol = moving[:, None]
+            delta *= mcol
+            # the cache stays valid: rows of bodies that stop are masked until their next
+            # walking cycle, which is always a step boundary (phase = T below)
+            vel = vel * mcol
             phase = np.where(moving, phase, T)
         self.phase = phase
         self.velocity = vel
 
-        # ---- falls take effect
-        if fell.any():
-            self.down_left[fell] = self._down_time
+        # ---- kick contact and end (a fall cancels the kick)
+        if fell_any:
             self.kick_elapsed[fell] = -1.0
-            kicking = kicking & ~fell
-
-        # ---- kick contact and end
         kick_now = np.zeros(n, dtype=bool)
         kick_distance = np.zeros(n)
         kick_direction = np.zeros(n)
-        if kicking.any():
+        if kick_active:
             p = self.profile
             e0 = self.kick_elapsed
             prep = p.kick_prep_time
-            kick_now = kicking & (e0 <= prep + _EPS) & (e0 + dt > prep + _EPS)
+            # e0 < 0 where no kick is in progress
             if prep <= _EPS:
-                kick_now = kicking & (e0 <= _EPS)
-            if kick_now.any():
-                k = int(kick_now.sum())
+                kick_now = (e0 >= 0.0) & (e0 <= _EPS)
+            else:
+                kick_now = (e0 <= prep + _EPS) & (e0 > max(prep + _EPS - dt, -0.5))
+            if np.count_nonzero(kick_now):
+                k = int(np.count_nonzero(kick_now))
                 dist = rng.normal(p.kick_distance_mean, p.kick_distance_std, k)
                 dist = np.clip(dist, p.kick_distance_min, p.kick_distance_max)
                 kick_distance[kick_now] = self.kick_power[kick_now] * dist
                 kick_direction[kick_now] = self.kick_aim[kick_now] + rng.normal(0.0, self._kick_sigma, k)
-            e1 = np.where(kicking, e0 + dt, -1.0)
-            e1[e1 >= p.kick_duration - _EPS] = -1.0
+            e1 = e0 + dt
+            e1[(e0 < 0.0) | (e1 >= p.kick_duration - _EPS)] = -1.0
             self.kick_elapsed = e1
-        self._n_kicking = int(np.count_nonzero(self.kick_elapsed >= 0.0)) if kicking.any() else 0
+            self._n_kicking = int(np.count_nonzero(e1 >= 0.0))
+        else:
+            self._n_kicking = 0
 
         # ---- odometry
         odometry = delta * self._odo_scale
         if self._odo_noisy:
             odometry *= 1.0 + self._odo_noise * rng.standard_normal((n, 3))
 
-        if any_down or fell.any():
-            left = self.down_left - dt * (~fell)
-            self.down_left = np.where(left > _EPS, left, 0.0)
-            fallen = self.down_left > 0.0
+        # ---- fallen / get-up timers
+        if any_down or fell_any:
+            left = self.down_left - dt
+            if fell_any:
+                left[fell] = self._down_time
+            left[left <= _EPS] = 0.0
+            self.down_left = left
+            fallen = left > 0.0
             self._n_down = int(np.count_nonzero(fallen))
         else:
             fallen = self._all_false

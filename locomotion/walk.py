@@ -31,9 +31,11 @@ def omni_displacement(vel: np.ndarray, tau: float | np.ndarray) -> np.ndarray:
     vy = vel[:, 1]
     theta = vel[:, 2] * tau
     half = 0.5 * theta
-    f = tau * np.sinc(half / np.pi)  # numpy's sinc is sin(pi x)/(pi x)
-    c = np.cos(half)
-    s = np.sin(half)
+    # sin(h)/h with h = 0 replaced by a tiny number: exactly 1 there, and sin/cos unchanged
+    h = np.where(half == 0.0, 1e-300, half)
+    s = np.sin(h)
+    c = np.cos(h)
+    f = s / h * tau
     out = np.empty_like(vel)
     out[:, 0] = f * (vx * c - vy * s)
     out[:, 1] = f * (vx * s + vy * c)
@@ -98,10 +100,13 @@ def apply_envelope(
     Returns:
         (n, 3) velocity inside the envelope.
     """
-    ux = vel[:, 0] / np.where(vel[:, 0] >= 0.0, vx_fwd, vx_back)
     if p == 2.0:
-        norm = np.sqrt(ux * ux + (vel[:, 1] / vy_max) ** 2 + (vel[:, 2] / w_max) ** 2)
+        inv = np.where(vel[:, :1] >= 0.0, (1.0 / vx_fwd, 1.0 / vy_max, 1.0 / w_max),
+                       (1.0 / vx_back, 1.0 / vy_max, 1.0 / w_max))
+        u = vel * inv
+        norm = np.sqrt(np.einsum("ij,ij->i", u, u))
     else:
+        ux = vel[:, 0] / np.where(vel[:, 0] >= 0.0, vx_fwd, vx_back)
         norm = (
             np.abs(ux) ** p + np.abs(vel[:, 1] / vy_max) ** p + np.abs(vel[:, 2] / w_max) ** p
         ) ** (1.0 / p)

@@ -79,5 +79,26 @@ def test_measurement_writes_a_valid_profile(brax_grid, tmp_path) -> None:
     assert p.kinds["push_fall_speed_forward"] == "measured-humanoid"
     assert "brax" in p.sources["push_fall_speed_forward"]
     assert p.fall_duration == pytest.approx(fall)
-    assert p.kinds["push_fall_speed_side"] != "measured-humanoid"  # not measured in this run
-    assert "humanoid_brax" in json.loads(out.read_text())["measurements"]
+    # not measured in this run: kept from the shipped profile
+    assert p.push_fall_speed_side == load_profile("t1_mj").push_fall_speed_side
+    assert "forward" in json.loads(out.read_text())["measurements"]["humanoid_brax"]["analysis"]
+
+
+def test_hand_entered_override_is_kept(brax_grid) -> None:
+    from locomotion.humanoid.measure import analyse_push_grid, base_profile, measurements_to_profile
+
+    base = base_profile("t1_mj")
+    base["parameters"]["push_fall_speed_forward"] = {
+        "value": 0.5, "unit": "m/s", "kind": "hand-entered", "source": "test",
+        "note": "overrides measurement"}
+    prof = measurements_to_profile(base, analyse_push_grid(brax_grid), "brax", "pytest")
+    assert prof["parameters"]["push_fall_speed_forward"]["value"] == 0.5
+
+
+def test_experimental_walker_steps_in_place_in_mujoco(t1) -> None:
+    """The 3D-LIPM walker (experimental) keeps the T1 up while stepping in place for 3 s."""
+    from locomotion.humanoid.walker import walk_mujoco
+
+    times, poses, fell = walk_mujoco(t1, lambda t, pose: (0.0, 0.0, 0.0), 3.0)
+    assert not fell and times[-1] > 2.9
+    assert np.hypot(*poses[-1, :2]) < 0.3
