@@ -19,16 +19,25 @@ DT = 0.02
 # derived from these steady speeds (distance / speed), because no humanoid walking controller
 # runs in brax here yet (see docs/readme/locomotion.md).
 RCSSSMJ_STEADY = {
-    "vx 0.25": ((0.25, 0, 0), (0.26, 0, 0)), "vx 0.5": ((0.5, 0, 0), (0.49, 0, 0)),
-    "vx 0.75": ((0.75, 0, 0), (0.72, 0, 0)), "vx 1.0": ((1.0, 0, 0), (0.91, 0, 0)),
-    "vx 1.5": ((1.5, 0, 0), (1.24, 0, 0)), "vx -0.5": ((-0.5, 0, 0), (-0.45, 0, 0)),
-    "vy 0.15": ((0, 0.15, 0), (0, 0.135, 0)), "turn 0.5": ((0, 0, 0.5), (0, 0, 0.51)),
-    "turn 1.0": ((0, 0, 1.0), (0, 0, 0.96)), "arc": ((0.5, 0, 0.5), (0.50, 0, 0.47)),
+    "vx 0.25": ((0.25, 0, 0), (0.26, 0, 0)),
+    "vx 0.5": ((0.5, 0, 0), (0.49, 0, 0)),
+    "vx 0.75": ((0.75, 0, 0), (0.72, 0, 0)),
+    "vx 1.0": ((1.0, 0, 0), (0.91, 0, 0)),
+    "vx 1.5": ((1.5, 0, 0), (1.24, 0, 0)),
+    "vx -0.5": ((-0.5, 0, 0), (-0.45, 0, 0)),
+    "vy 0.15": ((0, 0.15, 0), (0, 0.135, 0)),
+    "turn 0.5": ((0, 0, 0.5), (0, 0, 0.51)),
+    "turn 1.0": ((0, 0, 1.0), (0, 0, 0.96)),
+    "arc": ((0.5, 0, 0.5), (0.50, 0, 0.47)),
 }
 
 
-def simulate(profile: locomotion.Profile, policy: Callable[[np.ndarray, np.ndarray, float], np.ndarray | None],
-             t_max: float = 60.0, seed: int = 0) -> tuple[float, np.ndarray]:
+def simulate(
+    profile: locomotion.Profile,
+    policy: Callable[[np.ndarray, np.ndarray, float], np.ndarray | None],
+    t_max: float = 60.0,
+    seed: int = 0,
+) -> tuple[float, np.ndarray]:
     """Run one body under ``policy(pose, velocity, t) -> command or None (done)``.
 
     Returns (time s, path (k, 3) world poses x m, y m, heading rad).
@@ -70,9 +79,17 @@ def manoeuvres(p: locomotion.Profile) -> dict[str, dict]:
         return (1.0, 0, 0)
 
     t, path = simulate(p, start_stop)
-    out["start-stop 2 m"] = {"time": t, "path": path, "ref_steady": 2.0 / float(np.interp(1.0, *p.tracking[0]))}
+    out["start-stop 2 m"] = {
+        "time": t,
+        "path": path,
+        "ref_steady": 2.0 / float(np.interp(1.0, *p.tracking[0])),
+    }
     t, path = simulate(p, lambda s, v, t: None if s[2] >= math.pi else (0.5, 0, 0.5))
-    out["arc half circle (0.5 m/s, 0.5 rad/s)"] = {"time": t, "path": path, "ref_steady": math.pi / 0.47}
+    out["arc half circle (0.5 m/s, 0.5 rad/s)"] = {
+        "time": t,
+        "path": path,
+        "ref_steady": math.pi / 0.47,
+    }
     return out
 
 
@@ -83,7 +100,15 @@ def steady_state_check(p: locomotion.Profile) -> list[tuple[str, float, float, f
         b = locomotion.Bodies(p, 1)
         rng = np.random.default_rng(0)
         for _ in range(int(15 / DT)):
-            r = b.step(np.array([cmd], float), np.zeros(1, bool), np.zeros(1), np.zeros(1), np.zeros(1), rng, DT)
+            r = b.step(
+                np.array([cmd], float),
+                np.zeros(1, bool),
+                np.zeros(1),
+                np.zeros(1),
+                np.zeros(1),
+                rng,
+                DT,
+            )
         v = r.velocity[0]
         for k, unit in ((0, "vx"), (1, "vy"), (2, "turn")):
             if meas[k] != 0:
@@ -105,20 +130,34 @@ def main() -> None:
     rows = steady_state_check(p)
     for name, m, r, e in rows:
         print(f"   {name:10s} {m:8.3f} {r:9.3f} {100 * e:5.1f}%  {'OK' if e <= 0.10 else 'MISSED'}")
-    print("\n2. Manoeuvres (2D model; humanoid column = distance / measured steady speed, a lower bound,")
+    print(
+        "\n2. Manoeuvres (2D model; humanoid column = distance / measured steady speed, a lower bound,"
+    )
     print("   since no humanoid walking controller exists in brax yet)")
-    print(f"   {'manoeuvre':40s} {'model s':>8s} {'humanoid s':>10s} {'ratio':>6s} {'end pose (x, y, psi)':>24s}")
+    print(
+        f"   {'manoeuvre':40s} {'model s':>8s} {'humanoid s':>10s} {'ratio':>6s} {'end pose (x, y, psi)':>24s}"
+    )
     res = manoeuvres(p)
     report = {"profile": p.name, "steady": rows, "manoeuvres": {}}
     for name, r in res.items():
         end = r["path"][-1]
         ratio = r["time"] / r["ref_steady"]
-        print(f"   {name:40s} {r['time']:8.2f} {r['ref_steady']:10.2f} {ratio:6.2f} "
-              f"  ({end[0]:5.2f}, {end[1]:5.2f}, {end[2]:5.2f})")
-        report["manoeuvres"][name] = {"time_s": r["time"], "humanoid_lower_bound_s": r["ref_steady"],
-                                      "end_pose": end.tolist(), "n_path": len(r["path"])}
-    print("\n   ratio > 1 is the time the 2D model spends accelerating, waiting for step boundaries and")
-    print("   braking, which the steady-speed lower bound ignores; the 10% target against a walking")
+        print(
+            f"   {name:40s} {r['time']:8.2f} {r['ref_steady']:10.2f} {ratio:6.2f} "
+            f"  ({end[0]:5.2f}, {end[1]:5.2f}, {end[2]:5.2f})"
+        )
+        report["manoeuvres"][name] = {
+            "time_s": r["time"],
+            "humanoid_lower_bound_s": r["ref_steady"],
+            "end_pose": end.tolist(),
+            "n_path": len(r["path"]),
+        }
+    print(
+        "\n   ratio > 1 is the time the 2D model spends accelerating, waiting for step boundaries and"
+    )
+    print(
+        "   braking, which the steady-speed lower bound ignores; the 10% target against a walking"
+    )
     print("   humanoid is NOT evaluated (no humanoid manoeuvre data).")
     if args.json:
         with open(args.json, "w", encoding="utf-8") as fh:

@@ -30,7 +30,9 @@ def main() -> None:
     ap.add_argument("--sim-s", type=float, default=2.0)
     ap.add_argument("--out", default=None, help="profile JSON to write (default: print only)")
     ap.add_argument("--base", default="t1_mj")
-    ap.add_argument("--crosscheck", action="store_true", help="bisect each threshold in native MuJoCo")
+    ap.add_argument(
+        "--crosscheck", action="store_true", help="bisect each threshold in native MuJoCo"
+    )
     args = ap.parse_args()
     a, b, c = (float(x) for x in args.speeds.split(":"))
     speeds = np.round(np.arange(a, b + 1e-9, c), 4)
@@ -41,9 +43,13 @@ def main() -> None:
     wall = time.perf_counter() - t0
     analysis = analyse_push_grid(grid)
     fall = fall_duration_from_grid(grid, analysis)
-    print(f"{args.engine}: {len(speeds) * len(DIRECTIONS)} pushes x {args.sim_s} s in {wall:.0f} s wall")
+    print(
+        f"{args.engine}: {len(speeds) * len(DIRECTIONS)} pushes x {args.sim_s} s in {wall:.0f} s wall"
+    )
     for d, r in analysis.items():
-        print(f"  {d:9s} threshold {r['threshold']} m/s  bracket {r['bracket']}  monotonic {r['monotonic']}")
+        print(
+            f"  {d:9s} threshold {r['threshold']} m/s  bracket {r['bracket']}  monotonic {r['monotonic']}"
+        )
     print(f"  fall duration (median, push 1.5x threshold): {fall} s")
     raw = dict(grid)
     if args.crosscheck:
@@ -51,11 +57,18 @@ def main() -> None:
         raw["mujoco_bisection"] = cc
         for d, r in cc.items():
             br = analysis[d]["bracket"]
-            inside = br[0] is not None and br[1] is not None and br[0] - 0.025 <= r["threshold"] <= br[1] + 0.025
-            print(f"  mujoco {d:9s} threshold {r['threshold']:.3f} m/s (bisection) -> "
-                  f"{'agrees with' if inside else 'DIFFERS from'} {args.engine} bracket {br}")
-    prof = measurements_to_profile(base_profile(args.base), analysis, args.engine, command,
-                                   fall_duration=fall, raw=raw)
+            inside = (
+                br[0] is not None
+                and br[1] is not None
+                and br[0] - 0.025 <= r["threshold"] <= br[1] + 0.025
+            )
+            print(
+                f"  mujoco {d:9s} threshold {r['threshold']:.3f} m/s (bisection) -> "
+                f"{'agrees with' if inside else 'DIFFERS from'} {args.engine} bracket {br}"
+            )
+    prof = measurements_to_profile(
+        base_profile(args.base), analysis, args.engine, command, fall_duration=fall, raw=raw
+    )
     if args.out:
         write_measured_profile(prof, args.out)
         print(f"wrote {args.out}")

@@ -20,7 +20,6 @@ def bench(profile: str, n: int, cycles: int, scenario: str, seed: int = 0) -> fl
     crng = np.random.default_rng(seed + 1)
     cmds = crng.uniform(p.command_low, p.command_high, size=(64, n, 3))
     z = np.zeros(n)
-    none = np.zeros(n, bool)
     if scenario == "match":  # new commands every cycle, occasional kicks and collisions
         reqs = crng.random((64, n)) < 0.005
         imps = np.where(crng.random((64, n)) < 0.01, crng.exponential(10.0, (64, n)), 0.0)
@@ -45,12 +44,16 @@ def main() -> None:
     ap.add_argument("--players", type=int, default=22)
     ap.add_argument("--cycles", type=int, default=20000)
     args = ap.parse_args()
-    print(f"locomotion.Bodies.step, {args.players} players, {args.cycles} cycles, numpy {np.__version__}")
+    print(
+        f"locomotion.Bodies.step, {args.players} players, {args.cycles} cycles, numpy {np.__version__}"
+    )
     for profile in ("t1_mj", "nao_simspark"):
         for scenario in ("steady", "match", "stress"):
             us = bench(profile, args.players, args.cycles, scenario)
-            print(f"  {profile:13s} {scenario:6s}: {us:7.1f} µs/cycle = {100 * us / ENV_STEP_US:4.1f}% of a "
-                  f"{ENV_STEP_US:.0f} µs env step (target < 5%)  {'OK' if us < 0.05 * ENV_STEP_US else 'MISSED'}")
+            print(
+                f"  {profile:13s} {scenario:6s}: {us:7.1f} µs/cycle = {100 * us / ENV_STEP_US:4.1f}% of a "
+                f"{ENV_STEP_US:.0f} µs env step (target < 5%)  {'OK' if us < 0.05 * ENV_STEP_US else 'MISSED'}"
+            )
 
 
 if __name__ == "__main__":

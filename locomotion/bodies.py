@@ -74,14 +74,23 @@ class Bodies:
         """Args: profile: validated robot profile; n_players: number of bodies (>= 1)."""
         if not isinstance(profile, Profile):
             raise StepInputError("profile", type(profile).__name__, "must be a locomotion.Profile")
-        if isinstance(n_players, bool) or not isinstance(n_players, (int, np.integer)) or n_players < 1:
+        if (
+            isinstance(n_players, bool)
+            or not isinstance(n_players, (int, np.integer))
+            or n_players < 1
+        ):
             raise StepInputError("n_players", n_players, "must be a positive integer")
         self.profile = profile
         self.n = int(n_players)
         p = profile
         self._T = float(p.step_period)
-        self._env = (p.envelope_vx_forward, p.envelope_vx_backward, p.envelope_vy,
-                     p.envelope_turn, p.envelope_exponent)
+        self._env = (
+            p.envelope_vx_forward,
+            p.envelope_vx_backward,
+            p.envelope_vy,
+            p.envelope_turn,
+            p.envelope_exponent,
+        )
         self._dv = np.asarray(p.accel) * self._T  # max velocity change per step
         self._lim_fwd = np.array([p.envelope_vx_forward, p.envelope_vy, p.envelope_turn])
         self._lim_back = np.array([p.envelope_vx_backward, p.envelope_vy, p.envelope_turn])
@@ -183,8 +192,12 @@ class Bodies:
         kick_power = np.asarray(kick_power, dtype=np.float64)
         kick_dir = np.asarray(kick_dir, dtype=np.float64)
         impacts = np.asarray(impacts, dtype=np.float64)
-        for name, arr in (("kick_request", kick_request), ("kick_power", kick_power),
-                          ("kick_dir", kick_dir), ("impacts", impacts)):
+        for name, arr in (
+            ("kick_request", kick_request),
+            ("kick_power", kick_power),
+            ("kick_dir", kick_dir),
+            ("impacts", impacts),
+        ):
             if arr.shape != (n,):
                 raise StepInputError(name, arr.shape, f"must have shape ({n},)")
         T = self._T
@@ -296,7 +309,9 @@ class Bodies:
                 dist = rng.normal(p.kick_distance_mean, p.kick_distance_std, k)
                 dist = np.clip(dist, p.kick_distance_min, p.kick_distance_max)
                 kick_distance[kick_now] = self.kick_power[kick_now] * dist
-                kick_direction[kick_now] = self.kick_aim[kick_now] + rng.normal(0.0, self._kick_sigma, k)
+                kick_direction[kick_now] = self.kick_aim[kick_now] + rng.normal(
+                    0.0, self._kick_sigma, k
+                )
             e1 = e0 + dt
             e1[(e0 < 0.0) | (e1 >= p.kick_duration - _EPS)] = -1.0
             self.kick_elapsed = e1

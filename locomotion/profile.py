@@ -34,7 +34,14 @@ KINDS = ("measured", "measured-humanoid", "literature", "derived", "hand-entered
 # "table" list of [commanded, achieved] pairs.  low/high bound every element.
 _INF = math.inf
 PARAMETERS: dict[str, tuple[Any, str, float, float, bool, str]] = {
-    "step_period": ((), "s", 0.0, 2.0, True, "duration T of one step; commands switch at step boundaries"),
+    "step_period": (
+        (),
+        "s",
+        0.0,
+        2.0,
+        True,
+        "duration T of one step; commands switch at step boundaries",
+    ),
     "tracking_vx": ("table", "m/s", -5.0, 5.0, False, "commanded -> achieved forward speed"),
     "tracking_vy": ("table", "m/s", -5.0, 5.0, False, "commanded -> achieved side speed"),
     "tracking_turn": ("table", "rad/s", -10.0, 10.0, False, "commanded -> achieved turn rate"),
@@ -46,25 +53,109 @@ PARAMETERS: dict[str, tuple[Any, str, float, float, bool, str]] = {
     "accel_vx": ((), "m/s^2", 0.0, 50.0, True, "forward acceleration limit"),
     "accel_vy": ((), "m/s^2", 0.0, 50.0, True, "side acceleration limit"),
     "accel_turn": ((), "rad/s^2", 0.0, 100.0, True, "turn acceleration limit"),
-    "command_low": ((3,), "m/s, m/s, rad/s", -10.0, 0.0, False, "low bound of the walk command space"),
-    "command_high": ((3,), "m/s, m/s, rad/s", 0.0, 10.0, False, "high bound of the walk command space"),
-    "push_fall_speed_forward": ((), "m/s", 0.0, 10.0, True, "push speed that topples a standing robot, pushed forward"),
+    "command_low": (
+        (3,),
+        "m/s, m/s, rad/s",
+        -10.0,
+        0.0,
+        False,
+        "low bound of the walk command space",
+    ),
+    "command_high": (
+        (3,),
+        "m/s, m/s, rad/s",
+        0.0,
+        10.0,
+        False,
+        "high bound of the walk command space",
+    ),
+    "push_fall_speed_forward": (
+        (),
+        "m/s",
+        0.0,
+        10.0,
+        True,
+        "push speed that topples a standing robot, pushed forward",
+    ),
     "push_fall_speed_backward": ((), "m/s", 0.0, 10.0, True, "same, pushed backward"),
     "push_fall_speed_side": ((), "m/s", 0.0, 10.0, True, "same, pushed sideways"),
-    "command_jump_threshold": ((), "1", 0.0, 10.0, True, "normalised velocity change demanded at a step boundary above which the walk may fall"),
-    "command_jump_fall_probability": ((), "1", 0.0, 1.0, False, "probability of a fall per over-fast change"),
+    "command_jump_threshold": (
+        (),
+        "1",
+        0.0,
+        10.0,
+        True,
+        "normalised velocity change demanded at a step boundary above which the walk may fall",
+    ),
+    "command_jump_fall_probability": (
+        (),
+        "1",
+        0.0,
+        1.0,
+        False,
+        "probability of a fall per over-fast change",
+    ),
     "fall_duration": ((), "s", 0.0, 30.0, False, "time from losing balance to lying on the ground"),
     "getup_duration": ((), "s", 0.0, 60.0, False, "time to stand up again"),
-    "kick_prep_time": ((), "s", 0.0, 10.0, False, "time from the kick request to foot-ball contact"),
+    "kick_prep_time": (
+        (),
+        "s",
+        0.0,
+        10.0,
+        False,
+        "time from the kick request to foot-ball contact",
+    ),
     "kick_duration": ((), "s", 0.0, 10.0, True, "whole kick motion, request to standing again"),
-    "kick_reach": ((), "m", 0.0, 2.0, True, "body centre to ball centre distance at which a kick connects"),
+    "kick_reach": (
+        (),
+        "m",
+        0.0,
+        2.0,
+        True,
+        "body centre to ball centre distance at which a kick connects",
+    ),
     "kick_distance_mean": ((), "m", 0.0, 100.0, True, "mean ball travel at full power"),
     "kick_distance_std": ((), "m", 0.0, 100.0, False, "std of ball travel at full power"),
-    "kick_distance_min": ((), "m", 0.0, 100.0, False, "lowest ball travel at full power (truncation)"),
-    "kick_distance_max": ((), "m", 0.0, 100.0, True, "highest ball travel at full power (truncation)"),
-    "kick_accuracy": ((), "1", 0.0, 1.0, True, "fraction of kicks within kick_accuracy_half_angle of the aim"),
-    "kick_accuracy_half_angle": ((), "rad", 0.0, math.pi, True, "half-angle that counts as accurate"),
-    "odometry_scale": ((3,), "1", 0.0, 10.0, True, "odometry / true displacement per channel (slip)"),
+    "kick_distance_min": (
+        (),
+        "m",
+        0.0,
+        100.0,
+        False,
+        "lowest ball travel at full power (truncation)",
+    ),
+    "kick_distance_max": (
+        (),
+        "m",
+        0.0,
+        100.0,
+        True,
+        "highest ball travel at full power (truncation)",
+    ),
+    "kick_accuracy": (
+        (),
+        "1",
+        0.0,
+        1.0,
+        True,
+        "fraction of kicks within kick_accuracy_half_angle of the aim",
+    ),
+    "kick_accuracy_half_angle": (
+        (),
+        "rad",
+        0.0,
+        math.pi,
+        True,
+        "half-angle that counts as accurate",
+    ),
+    "odometry_scale": (
+        (3,),
+        "1",
+        0.0,
+        10.0,
+        True,
+        "odometry / true displacement per channel (slip)",
+    ),
     "odometry_noise": ((3,), "1", 0.0, 10.0, False, "relative std of odometry per channel"),
     "body_radius": ((), "m", 0.0, 2.0, True, "radius of the body's 2D collision disc"),
     "mass": ((), "kg", 0.0, 500.0, True, "robot mass"),
@@ -161,7 +252,9 @@ def load_profile(name_or_path: str | Path) -> Profile:
         path = PROFILE_DIR / f"{text_name}.json"
         if not path.exists():
             raise ProfileError(
-                text_name, "name", text_name,
+                text_name,
+                "name",
+                text_name,
                 f"no such shipped profile (shipped: {', '.join(shipped_profiles())}) and no such file",
             )
     if not path.is_file():
@@ -198,9 +291,23 @@ def profile_from_dict(data: Any, label: str = "<dict>", path: str | None = None)
     for key in sorted(_REQUIRED_TOP - set(data)):
         raise ProfileError(label, key, None, "missing")
     if data["format"] != FORMAT:
-        raise ProfileError(label, "format", data["format"], f"must be {FORMAT!r} (this code reads format version {FORMAT_VERSION})")
-    if isinstance(data["version"], bool) or not isinstance(data["version"], int) or data["version"] < 1:
-        raise ProfileError(label, "version", data["version"], "must be a positive integer (the profile's data version)")
+        raise ProfileError(
+            label,
+            "format",
+            data["format"],
+            f"must be {FORMAT!r} (this code reads format version {FORMAT_VERSION})",
+        )
+    if (
+        isinstance(data["version"], bool)
+        or not isinstance(data["version"], int)
+        or data["version"] < 1
+    ):
+        raise ProfileError(
+            label,
+            "version",
+            data["version"],
+            "must be a positive integer (the profile's data version)",
+        )
     for key in ("name", "robot", "description"):
         if not isinstance(data[key], str) or not data[key]:
             raise ProfileError(label, key, data[key], "must be a non-empty string")
@@ -221,7 +328,9 @@ def profile_from_dict(data: Any, label: str = "<dict>", path: str | None = None)
             raise ProfileError(label, fq, None, f"missing ({spec[5]}, {spec[1]})")
         entry = params[key]
         if not isinstance(entry, dict):
-            raise ProfileError(label, fq, entry, 'must be an object {"value", "unit", "source", "kind"}')
+            raise ProfileError(
+                label, fq, entry, 'must be an object {"value", "unit", "source", "kind"}'
+            )
         bad = set(entry) - _PARAM_KEYS
         if bad:
             k = sorted(bad)[0]
@@ -230,7 +339,9 @@ def profile_from_dict(data: Any, label: str = "<dict>", path: str | None = None)
             if k not in entry:
                 raise ProfileError(label, f"{fq}.{k}", None, "missing")
         if not isinstance(entry["source"], str) or not entry["source"].strip():
-            raise ProfileError(label, f"{fq}.source", entry["source"], "every number needs a non-empty source")
+            raise ProfileError(
+                label, f"{fq}.source", entry["source"], "every number needs a non-empty source"
+            )
         if entry["kind"] not in KINDS:
             raise ProfileError(label, f"{fq}.kind", entry["kind"], f"must be one of {KINDS}")
         if entry["unit"] != spec[1]:
@@ -252,11 +363,15 @@ def profile_from_dict(data: Any, label: str = "<dict>", path: str | None = None)
             values[key] = arr
         else:  # table
             if not isinstance(v, list) or len(v) < 2:
-                raise ProfileError(label, fq, v, "must be a list of at least 2 [commanded, achieved] pairs")
+                raise ProfileError(
+                    label, fq, v, "must be a list of at least 2 [commanded, achieved] pairs"
+                )
             pairs = []
             for i, pr in enumerate(v):
                 if not isinstance(pr, list) or len(pr) != 2:
-                    raise ProfileError(label, f"{fq}[{i}]", pr, "must be a [commanded, achieved] pair")
+                    raise ProfileError(
+                        label, f"{fq}[{i}]", pr, "must be a [commanded, achieved] pair"
+                    )
                 c = _num(label, f"{fq}[{i}][0]", pr[0])
                 a = _num(label, f"{fq}[{i}][1]", pr[1])
                 _check_range(label, f"{fq}[{i}]", c, spec)
@@ -276,19 +391,44 @@ def profile_from_dict(data: Any, label: str = "<dict>", path: str | None = None)
         tk = ("tracking_vx", "tracking_vy", "tracking_turn")[axis]
         top = float(values[tk][1][-1])
         if top > values[key] * (1 + 1e-9):
-            raise ProfileError(label, f"parameters.{tk}", top, f"achieves more than parameters.{key} = {values[key]}")
+            raise ProfileError(
+                label,
+                f"parameters.{tk}",
+                top,
+                f"achieves more than parameters.{key} = {values[key]}",
+            )
     if -float(values["tracking_vx"][1][0]) > values["envelope_vx_backward"] * (1 + 1e-9):
-        raise ProfileError(label, "parameters.tracking_vx", float(values["tracking_vx"][1][0]),
-                           f"backward speed beyond parameters.envelope_vx_backward = {values['envelope_vx_backward']}")
+        raise ProfileError(
+            label,
+            "parameters.tracking_vx",
+            float(values["tracking_vx"][1][0]),
+            f"backward speed beyond parameters.envelope_vx_backward = {values['envelope_vx_backward']}",
+        )
     if values["kick_prep_time"] > values["kick_duration"]:
-        raise ProfileError(label, "parameters.kick_prep_time", values["kick_prep_time"],
-                           f"longer than parameters.kick_duration = {values['kick_duration']}")
-    if not values["kick_distance_min"] <= values["kick_distance_mean"] <= values["kick_distance_max"]:
-        raise ProfileError(label, "parameters.kick_distance_mean", values["kick_distance_mean"],
-                           "must lie between kick_distance_min and kick_distance_max")
+        raise ProfileError(
+            label,
+            "parameters.kick_prep_time",
+            values["kick_prep_time"],
+            f"longer than parameters.kick_duration = {values['kick_duration']}",
+        )
+    if (
+        not values["kick_distance_min"]
+        <= values["kick_distance_mean"]
+        <= values["kick_distance_max"]
+    ):
+        raise ProfileError(
+            label,
+            "parameters.kick_distance_mean",
+            values["kick_distance_mean"],
+            "must lie between kick_distance_min and kick_distance_max",
+        )
     if np.any(values["command_low"] >= values["command_high"]):
-        raise ProfileError(label, "parameters.command_low", values["command_low"].tolist(),
-                           "must be below command_high on every axis")
+        raise ProfileError(
+            label,
+            "parameters.command_low",
+            values["command_low"].tolist(),
+            "must be below command_high on every axis",
+        )
     measurements = data.get("measurements", {})
     if not isinstance(measurements, dict):
         raise ProfileError(label, "measurements", measurements, "must be a JSON object")
@@ -298,7 +438,15 @@ def profile_from_dict(data: Any, label: str = "<dict>", path: str | None = None)
     accel.setflags(write=False)
     tracking = (values.pop("tracking_vx"), values.pop("tracking_vy"), values.pop("tracking_turn"))
     return Profile(
-        name=data["name"], version=data["version"], robot=data["robot"],
-        description=data["description"], tracking=tracking, accel=accel,
-        sources=sources, kinds=kinds, path=path, measurements=measurements, **values,
+        name=data["name"],
+        version=data["version"],
+        robot=data["robot"],
+        description=data["description"],
+        tracking=tracking,
+        accel=accel,
+        sources=sources,
+        kinds=kinds,
+        path=path,
+        measurements=measurements,
+        **values,
     )

@@ -101,8 +101,11 @@ def apply_envelope(
         (n, 3) velocity inside the envelope.
     """
     if p == 2.0:
-        inv = np.where(vel[:, :1] >= 0.0, (1.0 / vx_fwd, 1.0 / vy_max, 1.0 / w_max),
-                       (1.0 / vx_back, 1.0 / vy_max, 1.0 / w_max))
+        inv = np.where(
+            vel[:, :1] >= 0.0,
+            (1.0 / vx_fwd, 1.0 / vy_max, 1.0 / w_max),
+            (1.0 / vx_back, 1.0 / vy_max, 1.0 / w_max),
+        )
         u = vel * inv
         norm = np.sqrt(np.einsum("ij,ij->i", u, u))
     else:
@@ -119,6 +122,6 @@ def envelope_norm(
 ) -> np.ndarray:
     """Envelope norm ``||u||_p`` of each velocity (<= 1 inside the envelope); see apply_envelope."""
     ux = vel[:, 0] / np.where(vel[:, 0] >= 0.0, vx_fwd, vx_back)
-    return (
-        np.abs(ux) ** p + np.abs(vel[:, 1] / vy_max) ** p + np.abs(vel[:, 2] / w_max) ** p
-    ) ** (1.0 / p)
+    return (np.abs(ux) ** p + np.abs(vel[:, 1] / vy_max) ** p + np.abs(vel[:, 2] / w_max) ** p) ** (
+        1.0 / p
+    )

@@ -6,7 +6,8 @@ lazily and a missing one raises ImportError naming ``pip install 'teamenv[humano
 * :mod:`.t1` -- load the T1 MJCF shipped in rcsssmj, stance and joint PD gains;
 * :mod:`.brax_sim` -- batched brax (generalized pipeline) rollouts;
 * :mod:`.mujoco_sim` -- the same experiment in native MuJoCo (fast reference);
-* :mod:`.measure` -- push/fall thresholds, fall duration, writing a measured profile.
+* :mod:`.measure` -- push/fall thresholds, fall duration, writing a measured profile;
+* :mod:`.walker` -- experimental 3D-LIPM/ZMP preview-control walker with leg IK (seed 001 4.2).
 """
 
 from __future__ import annotations

@@ -43,6 +43,17 @@ class BraxT1:
             return state, state.q[2]
 
         self._chunk = jax.jit(chunk)
+
+        def step_ref(carry, _):
+            state, q_ref, gkp, gkd = carry
+            tau = jnp.clip(gkp * (q_ref - state.q[qa]) - gkd * state.qd[da], -tmax, tmax)
+            return (pipeline.step(sys, state, tau), q_ref, gkp, gkd), None
+
+        def chunk_ref(state, q_ref, gain):
+            carry = (state, q_ref, kp * gain, kd * jnp.sqrt(gain))
+            return jax.lax.scan(step_ref, carry, None, length=self.every)[0][0]
+
+        self._chunk_ref = jax.jit(chunk_ref)
         self._init = jax.jit(lambda q, qd: pipeline.init(sys, q, qd))
 
     def run(self, state: Any, seconds: float) -> tuple[Any, np.ndarray]:
@@ -54,13 +65,19 @@ class BraxT1:
             hs.append(z)
         return state, np.asarray(self.jnp.stack(hs))
 
+    def run_to(self, state: Any, q_ref: np.ndarray, gain: float = 1.0) -> Any:
+        """Advance one chunk (``every`` physics steps) with joint targets ``q_ref`` (rad) and
+        the PD gains scaled by ``gain``."""
+        return self._chunk_ref(state, self.jnp.asarray(q_ref), self.jnp.asarray(float(gain)))
+
     def settle(self, settle_s: float = 0.5) -> Any:
         """Brax state after standing ``settle_s`` seconds in the stance under PD."""
         state = self._init(self.jnp.asarray(self.t1.q_stance), self.jnp.zeros(self.t1.model.nv))
         return self.run(state, settle_s)[0]
 
-    def push_rollout(self, pushes: np.ndarray, sim_s: float = 2.0, settle_s: float = 0.5,
-                     settled: Any = None) -> tuple[np.ndarray, np.ndarray]:
+    def push_rollout(
+        self, pushes: np.ndarray, sim_s: float = 2.0, settle_s: float = 0.5, settled: Any = None
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Same experiment as :func:`~locomotion.humanoid.mujoco_sim.push_rollout_mujoco`.
 
         Returns times (m,) s after the push and torso heights (k, m) m.
@@ -75,7 +92,12 @@ class BraxT1:
         return times, np.array(heights)
 
 
-def push_rollout_brax(t1: T1Model, pushes: np.ndarray, sim_s: float = 2.0, settle_s: float = 0.5,
-                      record_every: int = 5) -> tuple[np.ndarray, np.ndarray]:
+def push_rollout_brax(
+    t1: T1Model,
+    pushes: np.ndarray,
+    sim_s: float = 2.0,
+    settle_s: float = 0.5,
+    record_every: int = 5,
+) -> tuple[np.ndarray, np.ndarray]:
     """Functional form of :meth:`BraxT1.push_rollout` (builds and compiles a fresh BraxT1)."""
     return BraxT1(t1, record_every).push_rollout(pushes, sim_s, settle_s)

@@ -12,7 +12,6 @@ from typing import Any
 import numpy as np
 
 from ..profile import PROFILE_DIR, load_profile
-from ._deps import require
 from .t1 import TORSO_ON_GROUND, TORSO_STANDING_MIN, T1Model, load_t1
 
 __all__ = [
@@ -31,8 +30,11 @@ DIRECTIONS: dict[str, tuple[float, float]] = {
     "backward": (-1.0, 0.0),
     "side": (0.0, 1.0),
 }
-_PARAM_OF = {"forward": "push_fall_speed_forward", "backward": "push_fall_speed_backward",
-             "side": "push_fall_speed_side"}
+_PARAM_OF = {
+    "forward": "push_fall_speed_forward",
+    "backward": "push_fall_speed_backward",
+    "side": "push_fall_speed_side",
+}
 
 
 def _fall_time(times: np.ndarray, h: np.ndarray) -> float | None:
@@ -42,8 +44,13 @@ def _fall_time(times: np.ndarray, h: np.ndarray) -> float | None:
 
 
 def measure_push_grid(
-    engine: str, speeds: Sequence[float], directions: Sequence[str] = tuple(DIRECTIONS),
-    sim_s: float = 2.0, settle_s: float = 0.5, t1: T1Model | None = None, brax_t1: Any = None,
+    engine: str,
+    speeds: Sequence[float],
+    directions: Sequence[str] = tuple(DIRECTIONS),
+    sim_s: float = 2.0,
+    settle_s: float = 0.5,
+    t1: T1Model | None = None,
+    brax_t1: Any = None,
 ) -> dict[str, Any]:
     """Push the standing T1 with every speed (m/s) in every direction; one batch per engine.
 
@@ -58,7 +65,9 @@ def measure_push_grid(
     """
     t1 = t1 or load_t1()
     speeds = [float(s) for s in speeds]
-    pushes = np.array([[s * DIRECTIONS[d][0], s * DIRECTIONS[d][1]] for d in directions for s in speeds])
+    pushes = np.array(
+        [[s * DIRECTIONS[d][0], s * DIRECTIONS[d][1]] for d in directions for s in speeds]
+    )
     if engine == "brax":
         from .brax_sim import BraxT1
 
@@ -70,10 +79,15 @@ def measure_push_grid(
         times, heights = push_rollout_mujoco(t1, pushes, sim_s=sim_s, settle_s=settle_s)
     else:
         raise ValueError(f"engine must be 'brax' or 'mujoco', got {engine!r}")
-    out: dict[str, Any] = {"engine": engine, "speeds": speeds, "sim_s": sim_s, "settle_s": settle_s,
-                           "directions": {}}
+    out: dict[str, Any] = {
+        "engine": engine,
+        "speeds": speeds,
+        "sim_s": sim_s,
+        "settle_s": settle_s,
+        "directions": {},
+    }
     for k, d in enumerate(directions):
-        hs = heights[k * len(speeds):(k + 1) * len(speeds)]
+        hs = heights[k * len(speeds) : (k + 1) * len(speeds)]
         out["directions"][d] = {
             "min_height": [round(float(x), 4) for x in hs.min(axis=1)],
             "fall_time": [_fall_time(times, h) for h in hs],
@@ -97,17 +111,27 @@ def analyse_push_grid(grid: dict[str, Any]) -> dict[str, Any]:
         standing = s_sorted[~f_sorted]
         falling = s_sorted[f_sorted]
         lo = float(standing.max()) if standing.size else None
-        hi = float(falling[falling > (lo if lo is not None else -1)].min()) if falling.size and (lo is None or (falling > lo).any()) else None
+        hi = (
+            float(falling[falling > (lo if lo is not None else -1)].min())
+            if falling.size and (lo is None or (falling > lo).any())
+            else None
+        )
         thr = 0.5 * (lo + hi) if lo is not None and hi is not None else None
         ft = None
         if hi is not None:
             ft = r["fall_time"][int(np.flatnonzero(speeds == hi)[0])]
-        res[d] = {"threshold": thr, "bracket": [lo, hi], "fall_time": ft,
-                  "monotonic": bool(np.all(np.diff(f_sorted.astype(int)) >= 0))}
+        res[d] = {
+            "threshold": thr,
+            "bracket": [lo, hi],
+            "fall_time": ft,
+            "monotonic": bool(np.all(np.diff(f_sorted.astype(int)) >= 0)),
+        }
     return res
 
 
-def fall_duration_from_grid(grid: dict[str, Any], analysis: dict[str, Any], factor: float = 1.5) -> float | None:
+def fall_duration_from_grid(
+    grid: dict[str, Any], analysis: dict[str, Any], factor: float = 1.5
+) -> float | None:
     """Median over directions of the time to the ground (s) of the grid push nearest to
     ``factor`` x that direction's threshold (a clear fall, not a marginal one)."""
     speeds = np.array(grid["speeds"])
@@ -122,8 +146,14 @@ def fall_duration_from_grid(grid: dict[str, Any], analysis: dict[str, Any], fact
     return float(np.median(times)) if times else None
 
 
-def bisect_threshold_mujoco(direction: str, lo: float = 0.0, hi: float = 2.0, tol: float = 0.005,
-                            sim_s: float = 2.5, t1: T1Model | None = None) -> dict[str, float]:
+def bisect_threshold_mujoco(
+    direction: str,
+    lo: float = 0.0,
+    hi: float = 2.0,
+    tol: float = 0.005,
+    sim_s: float = 2.5,
+    t1: T1Model | None = None,
+) -> dict[str, float]:
     """Push threshold (m/s) in one direction by bisection in native MuJoCo (fast engine).
 
     Also returns the time to the ground (s) of a push of 1.5 x the threshold.
@@ -160,8 +190,12 @@ def _versions() -> dict[str, str]:
 
 
 def measurements_to_profile(
-    base: dict[str, Any], analysis: dict[str, Any], engine: str, command: str,
-    fall_duration: float | None = None, raw: dict[str, Any] | None = None,
+    base: dict[str, Any],
+    analysis: dict[str, Any],
+    engine: str,
+    command: str,
+    fall_duration: float | None = None,
+    raw: dict[str, Any] | None = None,
 ) -> dict[str, Any]:
     """A new profile dict: ``base`` with the measured numbers written in.
 
@@ -181,23 +215,39 @@ def measurements_to_profile(
         if "overrides measurement" in str(entry.get("note", "")):
             return
         params[name] = {
-            "value": round(float(value), 4), "unit": unit, "kind": "measured-humanoid",
+            "value": round(float(value), 4),
+            "unit": unit,
+            "kind": "measured-humanoid",
             "source": f"locomotion.humanoid.measure: {what}; T1 from rcsssmj under joint PD, "
-                      f"engine {engine} ({vtext}); command: {command}",
+            f"engine {engine} ({vtext}); command: {command}",
             "note": f"replaces {entry['value']!r} ({entry['kind']}: {entry['source']})"[:400],
         }
         written.append(name)
 
     for d, r in analysis.items():
         if r["threshold"] is not None and d in _PARAM_OF:
-            put(_PARAM_OF[d], r["threshold"], "m/s",
-                f"push speed that topples the standing T1, {d}, bracket {r['bracket']} m/s")
+            put(
+                _PARAM_OF[d],
+                r["threshold"],
+                "m/s",
+                f"push speed that topples the standing T1, {d}, bracket {r['bracket']} m/s",
+            )
     if fall_duration is not None and math.isfinite(fall_duration):
-        put("fall_duration", fall_duration, "s", "time from the push to the torso on the ground "
-            f"(torso origin below {TORSO_ON_GROUND} m)")
+        put(
+            "fall_duration",
+            fall_duration,
+            "s",
+            "time from the push to the torso on the ground "
+            f"(torso origin below {TORSO_ON_GROUND} m)",
+        )
     meas = dict(prof.get("measurements", {}))
-    meas[f"humanoid_{engine}"] = {"analysis": analysis, "written": written, "versions": versions,
-                                  "command": command, "raw": raw or {}}
+    meas[f"humanoid_{engine}"] = {
+        "analysis": analysis,
+        "written": written,
+        "versions": versions,
+        "command": command,
+        "raw": raw or {},
+    }
     prof["measurements"] = meas
     return prof
 
@@ -215,7 +265,10 @@ def write_measured_profile(profile: dict[str, Any], path: str | Path) -> Path:
         lines.append(f"    {json.dumps(k)}: {json.dumps(v)}" + ("," if i < len(items) - 1 else ""))
     lines.append("  }" + ("," if "measurements" in profile else ""))
     if "measurements" in profile:
-        lines.append('  "measurements": ' + json.dumps(profile["measurements"], indent=2).replace("\n", "\n  "))
+        lines.append(
+            '  "measurements": '
+            + json.dumps(profile["measurements"], indent=2).replace("\n", "\n  ")
+        )
     lines.append("}")
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
     load_profile(path)  # validates; raises ProfileError naming the field otherwise

@@ -29,7 +29,10 @@ def settle_mujoco(t1: T1Model, settle_s: float = 0.5):
 
 
 def push_rollout_mujoco(
-    t1: T1Model, pushes: np.ndarray, sim_s: float = 2.0, settle_s: float = 0.5,
+    t1: T1Model,
+    pushes: np.ndarray,
+    sim_s: float = 2.0,
+    settle_s: float = 0.5,
     record_every: int = 5,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Push a settled standing T1 and record the torso height.

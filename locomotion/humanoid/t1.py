@@ -14,10 +14,14 @@ __all__ = ["T1Model", "t1_model_path", "load_t1", "STANCE", "PD_GAINS"]
 
 # Standing stance (rad): slightly bent knees, arms down (as booster_gym's T1 default pose).
 STANCE: dict[str, float] = {
-    "Left_Shoulder_Roll": -1.3, "Right_Shoulder_Roll": 1.3,
-    "Left_Hip_Pitch": -0.2, "Right_Hip_Pitch": -0.2,
-    "Left_Knee_Pitch": 0.4, "Right_Knee_Pitch": 0.4,
-    "Left_Ankle_Pitch": -0.2, "Right_Ankle_Pitch": -0.2,
+    "Left_Shoulder_Roll": -1.3,
+    "Right_Shoulder_Roll": 1.3,
+    "Left_Hip_Pitch": -0.2,
+    "Right_Hip_Pitch": -0.2,
+    "Left_Knee_Pitch": 0.4,
+    "Right_Knee_Pitch": 0.4,
+    "Left_Ankle_Pitch": -0.2,
+    "Right_Ankle_Pitch": -0.2,
 }
 # Joint PD gains (kp N*m/rad, kd N*m*s/rad) by joint-name fragment; booster_gym-like values.
 PD_GAINS: tuple[tuple[str, float, float], ...] = (
@@ -80,8 +84,12 @@ def load_t1() -> T1Model:
             spec.delete(act)
     for geom in spec.geoms:
         geom.priority = 0
-    spec.worldbody.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[50, 50, 0.1],
-                            friction=[1.0, 0.01, 0.005])
+    spec.worldbody.add_geom(
+        name="floor",
+        type=mujoco.mjtGeom.mjGEOM_PLANE,
+        size=[50, 50, 0.1],
+        friction=[1.0, 0.01, 0.005],
+    )
     model = spec.compile()
     nu = model.nu
     jnt = model.actuator_trnid[:, 0]
@@ -102,15 +110,25 @@ def load_t1() -> T1Model:
     data = mujoco.MjData(model)
     data.qpos[:] = q
     mujoco.mj_forward(model, data)
-    foot_ids = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, g) for g in ("left_foot", "right_foot")]
+    foot_ids = [
+        mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, g) for g in ("left_foot", "right_foot")
+    ]
     # lowest corner of the foot boxes -> put it on the floor
     lowest = min(
-        (data.geom_xpos[g] + data.geom_xmat[g].reshape(3, 3) @ (np.array(c) * model.geom_size[g]))[2]
-        for g in foot_ids for c in np.array(np.meshgrid([-1, 1], [-1, 1], [-1, 1])).T.reshape(-1, 3)
+        (data.geom_xpos[g] + data.geom_xmat[g].reshape(3, 3) @ (np.array(c) * model.geom_size[g]))[
+            2
+        ]
+        for g in foot_ids
+        for c in np.array(np.meshgrid([-1, 1], [-1, 1], [-1, 1])).T.reshape(-1, 3)
     )
     q[2] -= lowest - 1e-4
     return T1Model(
-        model=model, q_stance=q, kp=kp, kd=kd, tau_max=tau_max,
-        act_qadr=model.jnt_qposadr[jnt].copy(), act_dadr=model.jnt_dofadr[jnt].copy(),
+        model=model,
+        q_stance=q,
+        kp=kp,
+        kd=kd,
+        tau_max=tau_max,
+        act_qadr=model.jnt_qposadr[jnt].copy(),
+        act_dadr=model.jnt_dofadr[jnt].copy(),
         mass=float(model.body_subtreemass[0]),
     )

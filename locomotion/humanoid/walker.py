@@ -11,7 +11,7 @@ from ..walk import omni_displacement
 from ._deps import require
 from .t1 import TORSO_STANDING_MIN, T1Model
 
-__all__ = ["WalkParams", "LipmWalker", "walk_mujoco"]
+__all__ = ["WalkParams", "LipmWalker", "walk_mujoco", "walk_brax"]
 
 G = 9.81
 
@@ -54,7 +54,7 @@ def preview_gains(zc: float, dt: float, n: int, q: float = 1.0, r: float = 1e-6)
     """
     linalg = require("scipy.linalg")
     A = np.array([[1, dt, dt * dt / 2], [0, 1, dt], [0, 0, 1]])
-    B = np.array([[dt ** 3 / 6], [dt * dt / 2], [dt]])
+    B = np.array([[dt**3 / 6], [dt * dt / 2], [dt]])
     C = np.array([[1, 0, -zc / G]])
     A1 = np.block([[np.eye(1), C @ A], [np.zeros((3, 1)), A]])
     B1 = np.vstack([C @ B, B])
@@ -94,22 +94,41 @@ class LipmWalker:
         self.m = m
         self.kin = mujoco.MjData(m)
         self.kin.qpos[:] = t1.q_stance
-        self.foot_body = {s: mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"{s.lower()}_foot_link")
-                          for s in self.LEGS}
-        self.leg_q = {s: np.array([m.jnt_qposadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, f"{s}_{j}")]
-                                   for j in self.LEG_JOINTS]) for s in self.LEGS}
-        self.leg_d = {s: np.array([m.jnt_dofadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, f"{s}_{j}")]
-                                   for j in self.LEG_JOINTS]) for s in self.LEGS}
+        self.foot_body = {
+            s: mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"{s.lower()}_foot_link")
+            for s in self.LEGS
+        }
+        self.leg_q = {
+            s: np.array(
+                [
+                    m.jnt_qposadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, f"{s}_{j}")]
+                    for j in self.LEG_JOINTS
+                ]
+            )
+            for s in self.LEGS
+        }
+        self.leg_d = {
+            s: np.array(
+                [
+                    m.jnt_dofadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, f"{s}_{j}")]
+                    for j in self.LEG_JOINTS
+                ]
+            )
+            for s in self.LEGS
+        }
         self.torso_z = t1.q_stance[2] - params.torso_drop
         mujoco.mj_forward(m, self.kin)
         self.com_off = (self.kin.subtree_com[1] - self.kin.xpos[1])[:2].copy()
         self.foot_zmp = np.array([0.01, 0.0])  # foot box centre in the foot frame
         self.n_prev = int(round(params.preview / params.dt))
         self.A, self.B, self.C, self.Ki, self.Kx, self.Gd = preview_gains(
-            params.com_height, params.dt, self.n_prev)
+            params.com_height, params.dt, self.n_prev
+        )
         self.q_ref = t1.q_stance[t1.act_qadr].copy()
         aq = list(t1.act_qadr)
-        self.ankle_idx = np.array([[aq.index(self.leg_q[s][4]), aq.index(self.leg_q[s][5])] for s in self.LEGS])
+        self.ankle_idx = np.array(
+            [[aq.index(self.leg_q[s][4]), aq.index(self.leg_q[s][5])] for s in self.LEGS]
+        )
         self.reset()
 
     def reset(self, pose: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> None:
@@ -117,8 +136,10 @@ class LipmWalker:
         x, y, yaw = pose
         self.torso = np.array([x, y, yaw])
         R = _rz(yaw)[:2, :2]
-        self.feet = {s: np.array([*(np.array([x, y]) + R @ np.array([0.04, sg * self.p.lateral])), yaw])
-                     for s, sg in (("Left", 1.0), ("Right", -1.0))}
+        self.feet = {
+            s: np.array([*(np.array([x, y]) + R @ np.array([0.04, sg * self.p.lateral])), yaw])
+            for s, sg in (("Left", 1.0), ("Right", -1.0))
+        }
         com = np.array([x, y]) + R @ self.com_off
         self.state = np.array([[com[0], 0, 0], [com[1], 0, 0]], dtype=float)  # per axis c, c', c''
         self.err = np.zeros(2)
@@ -146,7 +167,9 @@ class LipmWalker:
             Rt = _rz(torso[2])[:2, :2]
             nxt = np.array([*(torso[:2] + Rt @ d[:2]), torso[2] + d[2]])
             sg = 1.0 if swing == "Left" else -1.0
-            land = np.array([*(nxt[:2] + _rz(nxt[2])[:2, :2] @ np.array([0.04, sg * p.lateral])), nxt[2]])
+            land = np.array(
+                [*(nxt[:2] + _rz(nxt[2])[:2, :2] @ np.array([0.04, sg * p.lateral])), nxt[2]]
+            )
             Rs = _rz(feet[support][2])[:2, :2]
             rel = Rs.T @ (land[:2] - feet[support][:2])
             rel[1] = sg * max(sg * rel[1], 1.6 * p.lateral)  # legs never cross
@@ -166,7 +189,9 @@ class LipmWalker:
             tau = self.t_step + j * p.dt
             if tau < 0:  # initial stand: centre, then move onto the first support foot
                 first_sup = self._zmp_point(self.plan[0][3])
-                mid = 0.5 * (self._zmp_point(self.feet["Left"]) + self._zmp_point(self.feet["Right"]))
+                mid = 0.5 * (
+                    self._zmp_point(self.feet["Left"]) + self._zmp_point(self.feet["Right"])
+                )
                 a = min(max((tau + p.double_support) / p.double_support, 0.0), 1.0)
                 out[j] = mid + a * (first_sup - mid)
                 continue
@@ -182,7 +207,9 @@ class LipmWalker:
                 out[j] = sup + (r - ss) / p.double_support * (nxt - sup)
         return out
 
-    def stabilise(self, q_ref: np.ndarray, roll: float, pitch: float, wx: float, wy: float) -> np.ndarray:
+    def stabilise(
+        self, q_ref: np.ndarray, roll: float, pitch: float, wx: float, wy: float
+    ) -> np.ndarray:
         """Ankle feedback of the measured torso roll/pitch (rad) and rates (rad/s)."""
         out = q_ref.copy()
         out[self.ankle_idx[:, 0]] += self.p.ankle_fb * pitch + self.p.ankle_fd * wy
@@ -242,7 +269,9 @@ class LipmWalker:
                 R = d.xmat[b].reshape(3, 3)
                 Rg = _rz(foot[2])
                 Re = Rg @ R.T
-                e_r = 0.5 * np.array([Re[2, 1] - Re[1, 2], Re[0, 2] - Re[2, 0], Re[1, 0] - Re[0, 1]])
+                e_r = 0.5 * np.array(
+                    [Re[2, 1] - Re[1, 2], Re[0, 2] - Re[2, 0], Re[1, 0] - Re[0, 1]]
+                )
                 mj.mj_jacBody(m, d, jacp, jacr, b)
                 cols = self.leg_d[leg]
                 J = np.vstack([jacp[:, cols], jacr[:, cols]])
@@ -253,8 +282,13 @@ class LipmWalker:
             self.q_ref[np.searchsorted(self.t1.act_qadr, self.leg_q[leg])] = d.qpos[self.leg_q[leg]]
 
 
-def walk_mujoco(t1: T1Model, command_fn, seconds: float, params: WalkParams = WalkParams(),
-                settle_s: float = 0.3):
+def walk_mujoco(
+    t1: T1Model,
+    command_fn,
+    seconds: float,
+    params: WalkParams = WalkParams(),
+    settle_s: float = 0.3,
+):
     """Walk the T1 in native MuJoCo; ``command_fn(t, pose) -> (vx, vy, w)`` (body frame).
 
     Returns (times (k,) s, torso poses (k, 3) x m, y m, yaw rad, fell: bool).
@@ -281,10 +315,62 @@ def walk_mujoco(t1: T1Model, command_fn, seconds: float, params: WalkParams = Wa
                 fell = True
                 break
             roll, pitch = _roll_pitch(data.qpos[3:7])
-            q_ref = walker.stabilise(walker.update(np.asarray(command_fn(i * dt, pose), float)),
-                                     roll, pitch, data.qvel[3], data.qvel[4])
+            q_ref = walker.stabilise(
+                walker.update(np.asarray(command_fn(i * dt, pose), float)),
+                roll,
+                pitch,
+                data.qvel[3],
+                data.qvel[4],
+            )
         _pd(t1, data, q_ref)
         mujoco.mj_step(m, data)
+    return np.array(times), np.array(poses), fell
+
+
+def walk_brax(
+    t1: T1Model,
+    command_fn,
+    seconds: float,
+    params: WalkParams = WalkParams(),
+    settle_s: float = 0.3,
+    brax_t1=None,
+):
+    """The same walk as :func:`walk_mujoco`, physics in brax (generalized pipeline).
+
+    The pattern generator and IK run on the host each control period; the physics chunk of
+    ``params.dt`` is jitted. Returns (times (k,) s, torso poses (k, 3), fell: bool).
+    """
+    from .brax_sim import BraxT1
+
+    dt = t1.model.opt.timestep
+    every = int(round(params.dt / dt))
+    b = brax_t1 or BraxT1(t1, every=every)
+    if b.every != every:
+        raise ValueError(f"BraxT1.every = {b.every} must equal params.dt / timestep = {every}")
+    state = b.settle(settle_s)
+    g = params.pd_gain_scale
+    walker = LipmWalker(replace(t1, kp=t1.kp * g, kd=t1.kd * math.sqrt(g)), params)
+    times, poses = [], []
+    fell = False
+    for i in range(int(round(seconds / params.dt))):
+        q = np.asarray(state.q)
+        qd = np.asarray(state.qd)
+        w, x, y, z = q[3:7]
+        pose = np.array([q[0], q[1], math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))])
+        times.append(i * params.dt)
+        poses.append(pose)
+        if q[2] < TORSO_STANDING_MIN:
+            fell = True
+            break
+        roll, pitch = _roll_pitch(q[3:7])
+        q_ref = walker.stabilise(
+            walker.update(np.asarray(command_fn(i * params.dt, pose), float)),
+            roll,
+            pitch,
+            qd[3],
+            qd[4],
+        )
+        state = b.run_to(state, q_ref, g)
     return np.array(times), np.array(poses), fell
 
 

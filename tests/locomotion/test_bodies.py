@@ -30,7 +30,7 @@ def _run(b: Bodies, cmd, cycles: int, rng=None, impacts=None, kick=None):
 def _pose(results, player: int = 0) -> np.ndarray:
     pose = np.zeros((1, 3))
     for r in results:
-        pose = compose(pose, r.delta_pose[player:player + 1])
+        pose = compose(pose, r.delta_pose[player : player + 1])
     return pose[0]
 
 
@@ -69,10 +69,10 @@ def test_command_changes_only_at_step_boundaries(t1) -> None:
     vels = np.array(vels)
     # boundaries at t = 0, T, 2T: the ends of cycles k-1, 2k-1 (velocity is reported at the end
     # of a cycle); the change commanded at cycle k+3 takes effect only at the boundary at 2T
-    assert np.all(vels[: k - 1] == vels[0]) and np.all(vels[k - 1: 2 * k - 1] == vels[k - 1])
+    assert np.all(vels[: k - 1] == vels[0]) and np.all(vels[k - 1 : 2 * k - 1] == vels[k - 1])
     assert vels[k - 1] > vels[0]  # still accelerating towards 0.49 m/s
     assert vels[2 * k - 1] < vels[2 * k - 2]
-    assert np.all(vels[2 * k - 1:3 * k - 1] == vels[2 * k - 1])
+    assert np.all(vels[2 * k - 1 : 3 * k - 1] == vels[2 * k - 1])
 
 
 def test_boundary_inside_a_cycle_is_split_exactly(t1) -> None:
@@ -103,16 +103,22 @@ def test_envelope_respected_under_random_commands(t1) -> None:
     b = Bodies(t1, 22)
     rng = np.random.default_rng(5)
     z = np.zeros(22)
-    env = (t1.envelope_vx_forward, t1.envelope_vx_backward, t1.envelope_vy, t1.envelope_turn,
-           t1.envelope_exponent)
+    env = (
+        t1.envelope_vx_forward,
+        t1.envelope_vx_backward,
+        t1.envelope_vy,
+        t1.envelope_turn,
+        t1.envelope_exponent,
+    )
     for _ in range(600):
         cmd = rng.uniform(t1.command_low, t1.command_high, size=(22, 3))
         r = b.step(cmd, np.zeros(22, bool), z, z, z, rng, DT)
         assert np.all(envelope_norm(r.velocity, *env) <= 1 + 1e-9)
         # the displacement over one cycle never beats the envelope either
         assert np.all(np.abs(r.delta_pose[:, 2]) <= t1.envelope_turn * DT + 1e-12)
-        assert np.all(np.hypot(r.delta_pose[:, 0], r.delta_pose[:, 1])
-                      <= t1.envelope_vx_forward * DT + 1e-12)
+        assert np.all(
+            np.hypot(r.delta_pose[:, 0], r.delta_pose[:, 1]) <= t1.envelope_vx_forward * DT + 1e-12
+        )
 
 
 def test_straight_walk_distance_is_eq4(t1) -> None:
@@ -131,13 +137,23 @@ def test_determinism(t1) -> None:
         rng = np.random.default_rng(seed)
         crng = np.random.default_rng(99)
         out = []
-        for i in range(400):
+        for _ in range(400):
             cmd = crng.uniform(t1.command_low, t1.command_high, size=(22, 3))
             req = crng.random(22) < 0.02
             imp = crng.exponential(8.0, 22)
             r = b.step(cmd, req, np.full(22, 0.8), crng.uniform(-1, 1, 22), imp, rng, DT)
-            out.append(np.concatenate([r.delta_pose.ravel(), r.odometry.ravel(), r.kick_distance,
-                                       r.kick_direction, r.fallen, r.can_act]))
+            out.append(
+                np.concatenate(
+                    [
+                        r.delta_pose.ravel(),
+                        r.odometry.ravel(),
+                        r.kick_distance,
+                        r.kick_direction,
+                        r.fallen,
+                        r.can_act,
+                    ]
+                )
+            )
         return np.array(out)
 
     a, b = trace(7), trace(7)
@@ -156,15 +172,21 @@ def test_reset_restores_initial_state(t1) -> None:
 def test_big_impact_falls_and_gets_up_on_time(t1) -> None:
     b = Bodies(t1, 2)
     big = t1.impact_fall_impulse_high + 1.0
-    res = _run(b, [0.8, 0, 0], 400, impacts=lambda i: np.array([big, 0.0]) if i == 50 else np.zeros(2))
+    res = _run(
+        b, [0.8, 0, 0], 400, impacts=lambda i: np.array([big, 0.0]) if i == 50 else np.zeros(2)
+    )
     fallen = np.array([r.fallen[0] for r in res])
     down_cycles = int(round((t1.fall_duration + t1.getup_duration) / DT))
     assert not fallen[:50].any()
-    assert res[50].fell[0] and fallen[50: 50 + down_cycles].all() and not fallen[50 + down_cycles:].any()
+    assert (
+        res[50].fell[0]
+        and fallen[50 : 50 + down_cycles].all()
+        and not fallen[50 + down_cycles :].any()
+    )
     can_act = np.array([r.can_act[0] for r in res])
     assert np.array_equal(can_act, ~fallen)
     # no motion while down, even though walking is commanded; the other player never fell
-    assert not np.any([r.delta_pose[0].any() for r in res[50: 50 + down_cycles]])
+    assert not np.any([r.delta_pose[0].any() for r in res[50 : 50 + down_cycles]])
     assert not any(r.fallen[1] for r in res)
     # after the get-up the first step starts at once (the next cycle), from standing
     assert not res[50 + down_cycles].delta_pose[0].any()
@@ -188,8 +210,19 @@ def test_push_thresholds_depend_on_direction(t1) -> None:
     rng = np.random.default_rng(0)
     below, above = 0.95, 1.05
     f, bk, s = t1.push_fall_speed_forward, t1.push_fall_speed_backward, t1.push_fall_speed_side
-    b.push(np.arange(6), np.array([[below * f, 0], [above * f, 0], [-below * bk, 0],
-                                   [-above * bk, 0], [0, below * s], [0, -above * s]]))
+    b.push(
+        np.arange(6),
+        np.array(
+            [
+                [below * f, 0],
+                [above * f, 0],
+                [-below * bk, 0],
+                [-above * bk, 0],
+                [0, below * s],
+                [0, -above * s],
+            ]
+        ),
+    )
     r = _run(b, [0, 0, 0], 1, rng=rng)[0]
     np.testing.assert_array_equal(r.fell, [False, True, False, True, False, True])
     assert b.push_threshold(np.array([0.0]))[0] == pytest.approx(f)
@@ -218,25 +251,33 @@ def test_over_fast_command_change_can_fall(t1) -> None:
 def test_fall_cancels_kick(t1) -> None:
     b = Bodies(t1, 1)
     big = np.array([t1.impact_fall_impulse_high + 1])
-    res = _run(b, [0, 0, 0], 100,
-               kick=lambda i: (np.array([i == 0]), np.ones(1), np.zeros(1)),
-               impacts=lambda i: big if i == 5 else np.zeros(1))
+    res = _run(
+        b,
+        [0, 0, 0],
+        100,
+        kick=lambda i: (np.array([i == 0]), np.ones(1), np.zeros(1)),
+        impacts=lambda i: big if i == 5 else np.zeros(1),
+    )
     assert not any(r.kick_now[0] for r in res)
 
 
 # ---------------------------------------------------------------- kicks
 def test_kick_timing(t1) -> None:
     b = Bodies(t1, 2)
-    res = _run(b, [0.6, 0, 0], 200,
-               kick=lambda i: (np.array([i >= 30, False]), np.array([1.0, 1.0]), np.zeros(2)))
+    res = _run(
+        b,
+        [0.6, 0, 0],
+        200,
+        kick=lambda i: (np.array([i >= 30, False]), np.array([1.0, 1.0]), np.zeros(2)),
+    )
     now = np.array([r.kick_now[0] for r in res])
     prep = int(round(t1.kick_prep_time / DT))
     dur = int(round(t1.kick_duration / DT))
     assert np.flatnonzero(now).tolist() == [30 + prep, 30 + dur + prep]  # repeated request
     can = np.array([r.can_act[0] for r in res])
-    assert not can[30: 30 + dur - 1].any() and can[30 + dur - 1]
+    assert not can[30 : 30 + dur - 1].any() and can[30 + dur - 1]
     # standing still while kicking; the other player keeps walking
-    assert not np.any([r.delta_pose[0].any() for r in res[30: 30 + dur - 1]])
+    assert not np.any([r.delta_pose[0].any() for r in res[30 : 30 + dur - 1]])
     assert all(r.delta_pose[1, 0] > 0 for r in res[1:])
     assert not any(r.kick_now[1] for r in res)
 
@@ -300,8 +341,15 @@ def test_odometry_slip(t1) -> None:
 )
 def test_bad_step_input(t1, arg, value, pattern) -> None:
     b = Bodies(t1, 4)
-    kw = dict(walk_cmd=np.zeros((4, 3)), kick_request=np.zeros(4, bool), kick_power=np.zeros(4),
-              kick_dir=np.zeros(4), impacts=np.zeros(4), rng=np.random.default_rng(0), dt=DT)
+    kw = dict(
+        walk_cmd=np.zeros((4, 3)),
+        kick_request=np.zeros(4, bool),
+        kick_power=np.zeros(4),
+        kick_dir=np.zeros(4),
+        impacts=np.zeros(4),
+        rng=np.random.default_rng(0),
+        dt=DT,
+    )
     kw[arg] = value
     with pytest.raises(StepInputError, match=pattern):
         b.step(**kw)

@@ -31,8 +31,9 @@ def t1():
 def brax_grid(t1):
     from locomotion.humanoid.measure import measure_push_grid
 
-    return measure_push_grid("brax", SPEEDS, directions=("forward",), sim_s=SIM_S,
-                             settle_s=SETTLE_S, t1=t1)
+    return measure_push_grid(
+        "brax", SPEEDS, directions=("forward",), sim_s=SIM_S, settle_s=SETTLE_S, t1=t1
+    )
 
 
 def test_t1_comes_from_rcsssmj(t1) -> None:
@@ -53,10 +54,13 @@ def test_brax_rollout_stands_and_falls(brax_grid) -> None:
 def test_brax_and_mujoco_agree_on_the_subset(t1, brax_grid) -> None:
     from locomotion.humanoid.measure import measure_push_grid
 
-    mj = measure_push_grid("mujoco", SPEEDS, directions=("forward",), sim_s=SIM_S,
-                           settle_s=SETTLE_S, t1=t1)
+    mj = measure_push_grid(
+        "mujoco", SPEEDS, directions=("forward",), sim_s=SIM_S, settle_s=SETTLE_S, t1=t1
+    )
     b, m = brax_grid["directions"]["forward"], mj["directions"]["forward"]
-    assert (np.array(b["min_height"]) < 0.35).tolist() == (np.array(m["min_height"]) < 0.35).tolist()
+    assert (np.array(b["min_height"]) < 0.35).tolist() == (
+        np.array(m["min_height"]) < 0.35
+    ).tolist()
     assert b["fall_time"][1] == pytest.approx(m["fall_time"][1], abs=0.1)
 
 
@@ -72,7 +76,9 @@ def test_measurement_writes_a_valid_profile(brax_grid, tmp_path) -> None:
     analysis = analyse_push_grid(brax_grid)
     assert analysis["forward"]["bracket"] == [0.0, 2.0]
     fall = fall_duration_from_grid(brax_grid, analysis)
-    prof = measurements_to_profile(base_profile("t1_mj"), analysis, "brax", "pytest", fall, brax_grid)
+    prof = measurements_to_profile(
+        base_profile("t1_mj"), analysis, "brax", "pytest", fall, brax_grid
+    )
     out = write_measured_profile(prof, tmp_path / "t1_measured.json")
     p = load_profile(out)
     assert p.push_fall_speed_forward == pytest.approx(1.0)
@@ -89,8 +95,12 @@ def test_hand_entered_override_is_kept(brax_grid) -> None:
 
     base = base_profile("t1_mj")
     base["parameters"]["push_fall_speed_forward"] = {
-        "value": 0.5, "unit": "m/s", "kind": "hand-entered", "source": "test",
-        "note": "overrides measurement"}
+        "value": 0.5,
+        "unit": "m/s",
+        "kind": "hand-entered",
+        "source": "test",
+        "note": "overrides measurement",
+    }
     prof = measurements_to_profile(base, analyse_push_grid(brax_grid), "brax", "pytest")
     assert prof["parameters"]["push_fall_speed_forward"]["value"] == 0.5
 

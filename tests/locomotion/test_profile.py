@@ -66,29 +66,44 @@ def _mutate(fn) -> dict:
     ("mutation", "pattern"),
     [
         (lambda d: d["parameters"].pop("mass"), r"parameters\.mass.*missing"),
-        (lambda d: d["parameters"].__setitem__("wings", {"value": 1}), r"parameters\.wings.*unknown"),
+        (
+            lambda d: d["parameters"].__setitem__("wings", {"value": 1}),
+            r"parameters\.wings.*unknown",
+        ),
         (lambda d: d.__setitem__("colour", "red"), r"'colour'.*unknown key"),
         (lambda d: d.pop("version"), r"'version'.*missing"),
         (lambda d: d.__setitem__("version", 0), r"'version' = 0.*positive integer"),
         (lambda d: d.__setitem__("format", "other/9"), r"'format'"),
-        (lambda d: d["parameters"]["step_period"].__setitem__("value", -0.3),
-         r"parameters\.step_period' = -0\.3.*out of range"),
-        (lambda d: d["parameters"]["mass"].__setitem__("value", "heavy"),
-         r"parameters\.mass' = 'heavy'.*number"),
+        (
+            lambda d: d["parameters"]["step_period"].__setitem__("value", -0.3),
+            r"parameters\.step_period' = -0\.3.*out of range",
+        ),
+        (
+            lambda d: d["parameters"]["mass"].__setitem__("value", "heavy"),
+            r"parameters\.mass' = 'heavy'.*number",
+        ),
         (lambda d: d["parameters"]["mass"].__setitem__("value", float("nan")), r"finite"),
         (lambda d: d["parameters"]["mass"].__setitem__("source", " "), r"mass\.source.*source"),
         (lambda d: d["parameters"]["mass"].pop("source"), r"mass\.source.*missing"),
         (lambda d: d["parameters"]["mass"].__setitem__("kind", "guessed"), r"mass\.kind"),
         (lambda d: d["parameters"]["mass"].__setitem__("unit", "lb"), r"mass\.unit' = 'lb'"),
         (lambda d: d["parameters"]["command_low"].__setitem__("value", [1, 2]), r"list of 3"),
-        (lambda d: d["parameters"]["tracking_vx"].__setitem__("value", [[0, 0], [0, 1]]),
-         r"strictly increasing"),
-        (lambda d: d["parameters"]["tracking_vx"].__setitem__("value", [[0.5, 0.5], [1, 1]]),
-         r"span commanded 0"),
-        (lambda d: d["parameters"]["envelope_vx_forward"].__setitem__("value", 1.0),
-         r"tracking_vx.*achieves more than"),
-        (lambda d: d["parameters"]["kick_prep_time"].__setitem__("value", 5.0),
-         r"kick_prep_time.*longer than"),
+        (
+            lambda d: d["parameters"]["tracking_vx"].__setitem__("value", [[0, 0], [0, 1]]),
+            r"strictly increasing",
+        ),
+        (
+            lambda d: d["parameters"]["tracking_vx"].__setitem__("value", [[0.5, 0.5], [1, 1]]),
+            r"span commanded 0",
+        ),
+        (
+            lambda d: d["parameters"]["envelope_vx_forward"].__setitem__("value", 1.0),
+            r"tracking_vx.*achieves more than",
+        ),
+        (
+            lambda d: d["parameters"]["kick_prep_time"].__setitem__("value", 5.0),
+            r"kick_prep_time.*longer than",
+        ),
     ],
 )
 def test_bad_profiles_give_clear_errors(mutation, pattern: str) -> None:

@@ -35,8 +35,9 @@ def test_eq4_is_the_paper_formula() -> None:
     y = 2 * vx / w * s * np.sin(psi + w * T / 2) + 2 * vy / w * s * np.cos(psi + w * T / 2)
     d = omni_displacement(np.array([[vx, vy, w]]), T)[0]
     c, sn = np.cos(psi), np.sin(psi)
-    np.testing.assert_allclose([c * d[0] - sn * d[1], sn * d[0] + c * d[1], d[2]], [x, y, w * T],
-                               atol=1e-14)
+    np.testing.assert_allclose(
+        [c * d[0] - sn * d[1], sn * d[0] + c * d[1], d[2]], [x, y, w * T], atol=1e-14
+    )
 
 
 @pytest.mark.parametrize("w", [0.0, 1e-300, 1e-12, -1e-9, 1e-6])
@@ -75,8 +76,13 @@ def test_envelope_is_combined_not_per_axis() -> None:
 
 def test_envelope_respected_for_random_commands() -> None:
     p = load_profile("t1_mj")
-    env = (p.envelope_vx_forward, p.envelope_vx_backward, p.envelope_vy, p.envelope_turn,
-           p.envelope_exponent)
+    env = (
+        p.envelope_vx_forward,
+        p.envelope_vx_backward,
+        p.envelope_vy,
+        p.envelope_turn,
+        p.envelope_exponent,
+    )
     rng = np.random.default_rng(3)
     cmd = rng.uniform(p.command_low * 2, p.command_high * 2, size=(5000, 3))
     out = apply_envelope(track(cmd, p.tracking), *env)
@@ -85,8 +91,20 @@ def test_envelope_respected_for_random_commands() -> None:
 
 def test_tracking_reproduces_measured_t1_speeds() -> None:
     p = load_profile("t1_mj")
-    cmd = np.array([[0.25, 0, 0], [0.5, 0, 0], [0.75, 0, 0], [1.0, 0, 0], [1.5, 0, 0],
-                    [-0.5, 0, 0], [0, 0.15, 0], [0, 0, 0.5], [0, 0, 1.0], [2.0, 0, 0]])
+    cmd = np.array(
+        [
+            [0.25, 0, 0],
+            [0.5, 0, 0],
+            [0.75, 0, 0],
+            [1.0, 0, 0],
+            [1.5, 0, 0],
+            [-0.5, 0, 0],
+            [0, 0.15, 0],
+            [0, 0, 0.5],
+            [0, 0, 1.0],
+            [2.0, 0, 0],
+        ]
+    )
     out = track(cmd, p.tracking)
     np.testing.assert_allclose(out[:, 0], [0.26, 0.49, 0.72, 0.91, 1.24, -0.45, 0, 0, 0, 1.24])
     np.testing.assert_allclose(out[6:9, 1:].sum(axis=1), [0.135, 0.51, 0.96])
