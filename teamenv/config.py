@@ -78,7 +78,7 @@ def _non_negative(obj: Any, *names: str) -> None:
 
 
 def _section(obj: Any) -> str:
-    return type(obj).__name__.removesuffix("Config").lower()
+    return _section_name(type(obj))
 
 
 def build_config(cls: type[T], value: T | Mapping[str, Any] | None) -> T:

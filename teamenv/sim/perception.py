@@ -7,6 +7,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from teamenv.sim.playmode import PlayMode
+from teamenv.sim.world import wrap_angle as _wrap
 
 SELF_DIM, BALL_DIM, PLAYER_DIM, GAME_DIM, HEARD_DIM = 7, 4, 5, 4, 4
 N_PLAY_MODES = len(PlayMode)
@@ -119,6 +120,3 @@ class StatePerception:
             for i in range(n)
         ]
 
-
-def _wrap(angle: np.ndarray) -> np.ndarray:
-    return (angle + np.pi) % (2 * np.pi) - np.pi

@@ -104,7 +104,6 @@ class Referee:
         if self.mode != PlayMode.BeforeKickOff:
             self.time_s = round(self.time_s + self.cycle_s, 9)
         mode_s = self.mode_cycles * self.cycle_s
-        ball = world.ball_state()
         kind, owner = self.mode.kind, self.mode.team
 
         if self._half_ends():
@@ -133,7 +132,6 @@ class Referee:
                     self._keep_opponents_away(world, owner, kickoff=(kind == "KickOff"))
         elif self.mode == PlayMode.PlayOn:
             self._check_ball(world, events)
-        del ball
         return events
 
     # -- rules -----------------------------------------------------------------------------
