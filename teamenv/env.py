@@ -16,11 +16,13 @@ from teamenv.config import PhysicsConfig, RulesConfig, build_config
 from teamenv.errors import ActionError, ConfigError, TeamFault
 from teamenv.field import FieldSpec, field_preset
 from teamenv.sim.playmode import PlayMode
-from teamenv.sim.simulation import Commands, CycleReport, Simulation
+from teamenv.sim.simulation import SIM_PHASES, Commands, CycleReport, Simulation
 from teamenv.teams import TeamContext, make_team
 
 SIDES = ("left", "right")
 OBSERVATION_MODES = ("state",)
+#: Keys of ``SoccerParallelEnv.timings()``, in the order of a cycle (see its docstring).
+TIMING_PHASES = ("actions", "team_left", "team_right", *SIM_PHASES, "other")
 
 
 @dataclass(frozen=True)
@@ -82,6 +84,10 @@ class SoccerParallelEnv(ParallelEnv):
 
     Bad input raises ActionError/MessageError naming agent, field and value when ``strict``
     (the default); ``strict=False`` drops or clips it instead and reports it in infos.
+
+    Timing: ``timings()`` gives the wall-clock seconds spent in each phase of ``reset()`` and
+    ``step()`` (``profile_phases=True``, the default; the accounting costs about a dozen
+    ``time.perf_counter()`` calls per step). ``profile_phases=False`` turns it off (all 0).
     """
 
     metadata = {"name": "teamenv_soccer_v0", "render_modes": ["human", "rgb_array"],
@@ -108,6 +114,7 @@ class SoccerParallelEnv(ParallelEnv):
         max_cycles: int | None = None,
         team_cycle_budget_s: float | None = None,
         render_mode: str | None = None,
+        profile_phases: bool = True,
     ) -> None:
         self.field = field_preset(field)
         self.team_size = self.field.default_team_size if team_size is None else team_size
@@ -138,7 +145,7 @@ class SoccerParallelEnv(ParallelEnv):
             raise ConfigError(f"locomotion_profile: {exc}") from exc
         try:
             self.sim = Simulation(self.field, self.team_size, self.rules, self.physics, profile,
-                                  channel)
+                                  channel, profile_phases=profile_phases)
         except (KeyError, ValueError) as exc:
             raise ConfigError(f"channel: {exc}") from exc
         self.channel_name = channel
@@ -190,6 +197,42 @@ class SoccerParallelEnv(ParallelEnv):
         self.team_time_s = {side: 0.0 for side in self.teams}
         self.last_report = CycleReport()
         self.acting_side: str | None = None
+        self.profile_phases = bool(profile_phases)
+        # float() returns 0.0: with profiling off the clock is never read.
+        self._clock = time.perf_counter if self.profile_phases else float
+        self.reset_timings()
+
+    # -- timing ----------------------------------------------------------------------------
+    def timings(self) -> dict[str, float]:
+        """Wall-clock seconds spent in each phase since construction or ``reset_timings()``,
+        summed over every ``reset()`` and ``step()`` call. Keys (``TIMING_PHASES``, then
+        ``total``):
+
+        - ``actions``: validating and converting the caller's and the teams' actions;
+        - ``team_left``, ``team_right``: that team plugin's ``act()`` and ``reset()``
+          (0 for a side driven by the caller);
+        - ``beam``, ``locomotion``, ``kick``, ``physics`` (pymunk world step and body I/O),
+          ``referee``, ``comms`` (say channel delivery): the simulation's cycle;
+        - ``perception``: building every agent's observation (arrays and dicts);
+        - ``other``: the rest of ``reset()``/``step()`` (rewards, infos, state, bookkeeping);
+        - ``total``: the whole time inside ``reset()`` and ``step()``; the phases add up to it.
+
+        All values are 0 when the env was made with ``profile_phases=False``.
+        """
+        out = dict.fromkeys(TIMING_PHASES, 0.0)
+        out.update(self._phase_s)
+        for phase, seconds in self.sim.phase_s.items():
+            out[phase] += seconds
+        out["other"] = max(0.0, self._total_s - sum(out.values()))
+        out["total"] = self._total_s
+        return out
+
+    def reset_timings(self) -> None:
+        """Zero the per-phase accounting of ``timings()`` (``team_time_s`` is kept)."""
+        self._phase_s = {"actions": 0.0, "team_left": 0.0, "team_right": 0.0,
+                         "perception": 0.0}
+        self._total_s = 0.0
+        self.sim.reset_timings()
 
     # -- PettingZoo API --------------------------------------------------------------------
     def observation_space(self, agent: str):
@@ -206,13 +249,22 @@ class SoccerParallelEnv(ParallelEnv):
         """Start a match. ``options`` is accepted for the PettingZoo API and not used: every
         setting of the env is a constructor argument (checked there)."""
         del options
+        start = self._clock()
+        try:
+            return self._reset(seed)
+        finally:
+            self._total_s += self._clock() - start
+
+    def _reset(self, seed: int | None):
         seed_seq = np.random.SeedSequence(seed)
         env_seq, *team_seqs = seed_seq.spawn(3)
         self.np_random = np.random.default_rng(env_seq)
         self.sim.reset(self.np_random)
         for k, (side, team) in enumerate(self.teams.items()):
             team_seed = int(team_seqs[k].generate_state(1)[0])
+            t0 = self._clock()
             self._team_call(side, team.reset, team_seed)
+            self._phase_s["team_" + side] += self._clock() - t0
         self.agents = list(self.possible_agents)
         self._episode_over = False
         self.last_report = CycleReport()
@@ -229,6 +281,14 @@ class SoccerParallelEnv(ParallelEnv):
         return self._episode_over
 
     def step(self, actions: Mapping[str, Any]):
+        start = self._clock()
+        try:
+            return self._step(actions, start)
+        finally:
+            self._total_s += self._clock() - start
+
+    def _step(self, actions: Mapping[str, Any], start: float):
+        clock = self._clock
         if self._episode_over:
             raise ActionError("step() called on a finished episode; call reset() first")
         if not isinstance(actions, Mapping):
@@ -248,6 +308,7 @@ class SoccerParallelEnv(ParallelEnv):
         given = [a for a in self.agents if a in actions]
         self.parser.fill(cmd, [self._row[a] for a in given], given, [actions[a] for a in given],
                          dropped)
+        self._phase_s["actions"] += clock() - start
         for side, team in self.teams.items():
             self._team_actions(side, team, cmd)
 
@@ -314,13 +375,18 @@ class SoccerParallelEnv(ParallelEnv):
         else:
             self._obs_all = self.sim.observations(flat=flat)
             team_obs = self._obs_all
+        t0 = self._clock()
         self._team_obs = {
             side: {a: team_obs[self._row[a]] for a in agents}
             for side, agents in self.team_agents.items()
         }
+        self._phase_s["perception"] += self._clock() - t0
 
     def _agent_observations(self) -> dict[str, Any]:
-        return {a: self._obs_all[self._row[a]] for a in self.agents}
+        t0 = self._clock()
+        out = {a: self._obs_all[self._row[a]] for a in self.agents}
+        self._phase_s["perception"] += self._clock() - t0
+        return out
 
     def _team_call(self, side: str, fn: Callable, *args: Any) -> Any:
         try:
@@ -336,6 +402,9 @@ class SoccerParallelEnv(ParallelEnv):
         elapsed = time.perf_counter() - start
         self.acting_side = None
         self.team_time_s[side] += elapsed
+        if self.profile_phases:
+            self._phase_s["team_" + side] += elapsed
+        start = self._clock()
         if self.team_cycle_budget_s is not None and elapsed > self.team_cycle_budget_s:
             raise TeamFault(side, "too_slow", f"act() took {elapsed * 1e3:.1f} ms, budget "
                             f"{self.team_cycle_budget_s * 1e3:.1f} ms")
@@ -352,6 +421,7 @@ class SoccerParallelEnv(ParallelEnv):
                                    [actions[a] for a in given], {})
         except ActionError as exc:
             raise TeamFault(side, "invalid_action", str(exc)) from exc
+        self._phase_s["actions"] += self._clock() - start
 
     def _rewards(self, agents: list[str], report: CycleReport, state: np.ndarray | None) -> dict:
         default = {a: 0.0 for a in agents}

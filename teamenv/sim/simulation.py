@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field
 from typing import Sequence
 
@@ -15,6 +16,10 @@ from teamenv.field import FieldSpec
 from teamenv.sim.perception import HeardSlot, StatePerception
 from teamenv.sim.referee import Referee, RefereeEvent
 from teamenv.sim.world import World, wrap_angle
+
+
+#: Phases of a cycle timed by ``Simulation`` (see ``Simulation.phase_s``).
+SIM_PHASES = ("beam", "locomotion", "kick", "physics", "referee", "comms", "perception")
 
 
 @dataclass
@@ -52,10 +57,16 @@ class CycleReport:
 
 
 class Simulation:
-    """The whole world of one match, stepped by arrays of commands. No RL API here."""
+    """The whole world of one match, stepped by arrays of commands. No RL API here.
+
+    ``phase_s`` accumulates the wall-clock seconds spent in each phase of ``SIM_PHASES``
+    (``perception`` is ``observations()``) since construction or ``reset_timings()``; with
+    ``profile_phases=False`` the clock is not read and every entry stays 0.
+    """
 
     def __init__(self, field_spec: FieldSpec, team_size: int, rules: RulesConfig,
-                 physics: PhysicsConfig, profile: locomotion.Profile, channel: str) -> None:
+                 physics: PhysicsConfig, profile: locomotion.Profile, channel: str,
+                 profile_phases: bool = True) -> None:
         self.field, self.team_size, self.rules, self.physics = field_spec, team_size, rules, physics
         self.n = 2 * team_size
         self.profile = profile
@@ -70,6 +81,14 @@ class Simulation:
         self.cycle = 0
         self.rng = np.random.default_rng(0)
         self._heard = [HeardSlot(self.heard_slots) for _ in range(self.n)]
+        self.profile_phases = bool(profile_phases)
+        # float() returns 0.0: with profiling off every phase adds 0 and the clock is not read.
+        self._clock = time.perf_counter if self.profile_phases else float
+        self.phase_s = dict.fromkeys(SIM_PHASES, 0.0)
+
+    def reset_timings(self) -> None:
+        """Zero the per-phase wall-clock accounting."""
+        self.phase_s = dict.fromkeys(SIM_PHASES, 0.0)
 
     def reset(self, rng: np.random.Generator) -> None:
         """Start a new match with the env's generator (the only randomness used)."""
@@ -84,12 +103,16 @@ class Simulation:
 
     # -- the cycle -------------------------------------------------------------------------
     def step(self, cmd: Commands) -> CycleReport:
+        clock, acc = self._clock, self.phase_s
+        t0 = clock()
         report = CycleReport()
         dt = self.physics.cycle_s
         poses = self.world.player_poses()
         self._beam(cmd, poses, report)
         if report.beams:
             poses = self.world.player_poses()
+        t1 = clock()
+        acc["beam"] += t1 - t0
 
         kick_request = cmd.kick_power > 0.0
         res = self.bodies.step(cmd.walk, kick_request, cmd.kick_power, cmd.kick_dir,
@@ -101,14 +124,23 @@ class Simulation:
         velocity[:, 0] = (cos_h * delta[:, 0] - sin_h * delta[:, 1]) / dt
         velocity[:, 1] = (sin_h * delta[:, 0] + cos_h * delta[:, 1]) / dt
         velocity[:, 2] = delta[:, 2] / dt
+        t2 = clock()
+        acc["locomotion"] += t2 - t1
 
         touchers = self._kick(res, poses, report)
+        t3 = clock()
+        acc["kick"] += t3 - t2
         self.world.step(velocity)
         touchers.extend(self.world.touches)
+        t4 = clock()
+        acc["physics"] += t4 - t3
 
         report.referee = self.referee.update(self.world, touchers)
+        t5 = clock()
+        acc["referee"] += t5 - t4
         self._deliver(cmd.say, report)
         self.cycle += 1
+        acc["comms"] += clock() - t5
         return report
 
     def _beam(self, cmd: Commands, poses: np.ndarray, report: CycleReport) -> None:
@@ -176,11 +208,14 @@ class Simulation:
         return np.asarray(self.bodies.fallen, dtype=float)
 
     def observations(self, flat: bool = False) -> list:
+        t0 = self._clock()
         ref = self.referee
-        return self.perception.observe(
+        out = self.perception.observe(
             self.world.player_poses(), self.world.player_velocities(), self.world.ball_state(),
             self.fallen(), ref.mode, ref.time_s, ref.half, ref.score, ref.attack_sign,
             self._heard, flat=flat)
+        self.phase_s["perception"] += self._clock() - t0
+        return out
 
     def global_state(self) -> np.ndarray:
         """World-frame state for centralized critics: ball (4), then per player x, y, heading,
