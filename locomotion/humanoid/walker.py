@@ -1,9 +1,11 @@
-"""A 3D-LIPM walking pattern generator + leg IK + joint PD for the T1 (seed 001 sec. 4.2)."""
+"""A 3D-LIPM walking pattern generator + leg IK + joint PD for the T1 (seed 001 sec. 4.2),
+closed by measured feedback (capture-point foot placement, torso attitude at ankles and hips)."""
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
+from typing import Any
 
 import numpy as np
 
@@ -11,40 +13,92 @@ from ..walk import omni_displacement
 from ._deps import require
 from .t1 import TORSO_STANDING_MIN, T1Model
 
-__all__ = ["WalkParams", "LipmWalker", "walk_mujoco", "walk_brax"]
+__all__ = ["WalkParams", "LipmWalker", "Observer", "walk_mujoco", "walk_brax"]
 
 G = 9.81
 
 
 @dataclass(frozen=True)
 class WalkParams:
-    """Walking-engine parameters (m, s).
+    """Walking-engine parameters (m, s, rad).
 
-    step_period: one step = single support + double support (s); double_support: its share
-    (s); lateral: half distance between the feet (m); com_height: z of the 3D-LIPM (seed 001
-    eq. 5); lift: swing-foot apex (m); torso_drop: torso lowered from the stance (m);
-    preview: ZMP preview horizon (s); dt: control period (s); pd_gain_scale: joint PD gains
-    x this factor while walking (kd x its square root); ankle_fb, ankle_fd: torso roll/pitch
-    (rad) and rate (rad/s) fed back to the ankles (the gyro stabilisation of seed 001 sec. 4.2).
+    Pattern: step_period: one step = single support + double support (s); double_support: its
+    share (s); lateral: half distance between the feet (m); com_height: z of the 3D-LIPM (seed
+    001 eq. 5); lift: swing-foot apex (m); torso_drop: torso lowered from the stance (m);
+    torso_lean: forward pitch of the torso (rad); preview: ZMP preview horizon (s); dt: control
+    period (s); pd_gain_scale: joint PD gains x this factor while walking (kd x its square root).
+
+    Feedback (from the measured robot): ankle_fb, ankle_fd: torso roll/pitch (rad) and rate
+    (rad/s) added to the ankle targets (the gyro stabilisation of seed 001 sec. 4.2); hip_fb,
+    hip_fd: the same added to the hip roll/pitch targets; step_fb: the swing foot's landing
+    point moves by this x the capture-point error (measured minus planned CoM + CoM velocity /
+    omega, relative to the support foot), clipped to step_max (m); cp_filter: time constant (s)
+    of the low-pass on that error; cp_pos: weight of the CoM position in that error (1: the
+    capture point); cp_bias_tau: if > 0, the error's slow mean (time constant, s) is removed
+    first, so a steady offset between the kinematic and the real CoM does not drift the walk;
+    tilt_ik: share of the measured torso roll/pitch used as the
+    torso attitude in the IK (so the swing foot lands flat and the CoM is kept over its planned
+    point on a tilted robot).
+
+    Command: accel_x, accel_y (m/s^2), accel_turn (rad/s^2): the walk command actually planned
+    moves towards the commanded one by at most this x step_period per step.
     """
 
-    # defaults: best of a 40-sample random search in native MuJoCo (survival over 6 commands)
+    # defaults: best of a random search in native MuJoCo (benchmarks/locomotion_walker_tune.py)
     step_period: float = 0.362
     double_support: float = 0.080
     lateral: float = 0.1077
     com_height: float = 0.550
     lift: float = 0.022
     torso_drop: float = 0.0115
+    torso_lean: float = 0.0
     preview: float = 1.6
     dt: float = 0.01
     pd_gain_scale: float = 4.0
     ankle_fb: float = 0.075
     ankle_fd: float = 0.065
+    hip_fb: float = 0.0
+    hip_fd: float = 0.0
+    step_fb: float = 1.0
+    step_max: float = 0.06
+    cp_filter: float = 0.03
+    cp_pos: float = 0.3
+    cp_bias_tau: float = 0.0
+    tilt_ik: float = 0.0
+    accel_x: float = 0.5
+    accel_y: float = 0.5
+    accel_turn: float = 2.0
+
+    def with_(self, **kw: float) -> WalkParams:
+        """A copy with some fields replaced (unknown names raise TypeError)."""
+        return replace(self, **kw)
+
+    def as_dict(self) -> dict[str, float]:
+        return {f.name: getattr(self, f.name) for f in fields(self)}
 
 
 def _rz(yaw: float) -> np.ndarray:
     c, s = math.cos(yaw), math.sin(yaw)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def _r2(yaw: float) -> np.ndarray:
+    c, s = math.cos(yaw), math.sin(yaw)
+    return np.array([[c, -s], [s, c]])
+
+
+def _quat_rpy(roll: float, pitch: float, yaw: float) -> np.ndarray:
+    cr, sr = math.cos(roll / 2), math.sin(roll / 2)
+    cp, sp = math.cos(pitch / 2), math.sin(pitch / 2)
+    cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
+    return np.array(
+        [
+            cr * cp * cy + sr * sp * sy,
+            sr * cp * cy - cr * sp * sy,
+            cr * sp * cy + sr * cp * sy,
+            cr * cp * sy - sr * sp * cy,
+        ]
+    )
 
 
 def preview_gains(zc: float, dt: float, n: int, q: float = 1.0, r: float = 1e-6):
@@ -75,12 +129,59 @@ def preview_gains(zc: float, dt: float, n: int, q: float = 1.0, r: float = 1e-6)
     return A, B, C, Ki, Kx, Gd
 
 
+class Observer:
+    """What the walker measures on the robot, computed the same way for either engine: the
+    generalized state (qpos, qvel) goes into a MuJoCo MjData of the same model and its
+    kinematics give the whole-body CoM and its velocity, the feet and the torso attitude."""
+
+    def __init__(self, t1: T1Model) -> None:
+        mujoco = require("mujoco")
+        self.mj, self.m = mujoco, t1.model
+        self.d = mujoco.MjData(t1.model)
+        self.feet = {
+            s: mujoco.mj_name2id(t1.model, mujoco.mjtObj.mjOBJ_BODY, f"{s.lower()}_foot_link")
+            for s in LipmWalker.LEGS
+        }
+
+    def __call__(self, qpos: np.ndarray, qvel: np.ndarray) -> dict[str, Any]:
+        mj, m, d = self.mj, self.m, self.d
+        d.qpos[:] = qpos
+        d.qvel[:] = qvel
+        mj.mj_kinematics(m, d)
+        mj.mj_comPos(m, d)
+        mj.mj_comVel(m, d)
+        mj.mj_subtreeVel(m, d)
+        w, x, y, z = qpos[3:7]
+        roll = math.atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))
+        pitch = math.asin(max(-1.0, min(1.0, 2 * (w * y - z * x))))
+        yaw = math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
+        feet = {}
+        for s, b in self.feet.items():
+            R = d.xmat[b].reshape(3, 3)
+            feet[s] = np.array([d.xpos[b][0], d.xpos[b][1], math.atan2(R[1, 0], R[0, 0])])
+        return {
+            "pose": np.array([qpos[0], qpos[1], yaw]),
+            "height": float(qpos[2]),
+            "roll": roll,
+            "pitch": pitch,
+            "wx": float(qvel[3]),
+            "wy": float(qvel[4]),
+            "com": d.subtree_com[1].copy(),
+            "comvel": d.subtree_linvel[1].copy(),
+            "feet": feet,
+        }
+
+
 class LipmWalker:
     """Omnidirectional walk (seed 001 sec. 4.2): footsteps from eq. 4 for the current command,
     a ZMP reference at the centre of the support foot (moved linearly between the feet during
     double support), the CoM from Kajita's preview control of the 3D-LIPM, the swing foot
-    interpolated between footholds, and both legs from damped-least-squares IK with the torso
-    carrying the CoM (the CoM is approximated by a fixed point of the torso).
+    interpolated between footholds, and both legs from damped-least-squares IK that puts the
+    whole-body CoM of the kinematic model on the planned CoM.
+
+    With a measurement (:class:`Observer` output) the walk is closed-loop: the landing point of
+    the swing foot moves with the capture-point error, the torso attitude is fed back to ankles
+    and hips, and the IK may use the measured torso tilt.
     """
 
     LEGS = ("Left", "Right")
@@ -98,24 +199,12 @@ class LipmWalker:
             s: mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"{s.lower()}_foot_link")
             for s in self.LEGS
         }
-        self.leg_q = {
-            s: np.array(
-                [
-                    m.jnt_qposadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, f"{s}_{j}")]
-                    for j in self.LEG_JOINTS
-                ]
-            )
-            for s in self.LEGS
-        }
-        self.leg_d = {
-            s: np.array(
-                [
-                    m.jnt_dofadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, f"{s}_{j}")]
-                    for j in self.LEG_JOINTS
-                ]
-            )
-            for s in self.LEGS
-        }
+
+        def adr(table, s, j):
+            return table[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, f"{s}_{j}")]
+
+        self.leg_q = {s: np.array([adr(m.jnt_qposadr, s, j) for j in self.LEG_JOINTS]) for s in self.LEGS}
+        self.leg_d = {s: np.array([adr(m.jnt_dofadr, s, j) for j in self.LEG_JOINTS]) for s in self.LEGS}
         self.torso_z = t1.q_stance[2] - params.torso_drop
         mujoco.mj_forward(m, self.kin)
         self.com_off = (self.kin.subtree_com[1] - self.kin.xpos[1])[:2].copy()
@@ -124,18 +213,20 @@ class LipmWalker:
         self.A, self.B, self.C, self.Ki, self.Kx, self.Gd = preview_gains(
             params.com_height, params.dt, self.n_prev
         )
+        self.omega = math.sqrt(G / params.com_height)
         self.q_ref = t1.q_stance[t1.act_qadr].copy()
         aq = list(t1.act_qadr)
-        self.ankle_idx = np.array(
-            [[aq.index(self.leg_q[s][4]), aq.index(self.leg_q[s][5])] for s in self.LEGS]
-        )
+        # per leg: actuator index of hip pitch, hip roll, ankle pitch, ankle roll
+        self.fb_idx = {
+            s: [aq.index(self.leg_q[s][k]) for k in (0, 1, 4, 5)] for s in self.LEGS
+        }
         self.reset()
 
     def reset(self, pose: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> None:
-        """Standing at ``pose`` (x, y, yaw); the first step starts after one double support."""
+        """Standing at ``pose`` (x, y, yaw); the first step starts after 0.5 s."""
         x, y, yaw = pose
         self.torso = np.array([x, y, yaw])
-        R = _rz(yaw)[:2, :2]
+        R = _r2(yaw)
         self.feet = {
             s: np.array([*(np.array([x, y]) + R @ np.array([0.04, sg * self.p.lateral])), yaw])
             for s, sg in (("Left", 1.0), ("Right", -1.0))
@@ -144,15 +235,31 @@ class LipmWalker:
         self.state = np.array([[com[0], 0, 0], [com[1], 0, 0]], dtype=float)  # per axis c, c', c''
         self.err = np.zeros(2)
         self.swing = "Left"
-        self.t = 0.0
         self.t_step = -0.5  # stand 0.5 s (ZMP at the centre) before the first step
         self.plan: list = []
-        self.swing_from = self.feet["Left"].copy()
-        self.swing_to = self.feet["Left"].copy()
-        self.yaw_from = self.yaw_to = yaw
+        self.adj = np.zeros(2)  # landing adjustment of the current swing foot (walker frame)
+        self.cp_err = np.zeros(2)
+        self.cp_bias = np.zeros(2)
+        self.torso_off = self.com_off.copy()  # CoM - torso origin (xy) of the last IK solution
+        self.cmd = np.zeros(3)  # the command being walked (slew-limited)
+
+    def _slew(self, cmd: np.ndarray) -> np.ndarray:
+        p = self.p
+        lim = np.array([p.accel_x, p.accel_y, p.accel_turn]) * p.step_period
+        self.cmd = self.cmd + np.clip(np.asarray(cmd, float) - self.cmd, -lim, lim)
+        return self.cmd
 
     def _zmp_point(self, foot: np.ndarray) -> np.ndarray:
-        return foot[:2] + _rz(foot[2])[:2, :2] @ self.foot_zmp
+        return foot[:2] + _r2(foot[2]) @ self.foot_zmp
+
+    def _limit_landing(self, land: np.ndarray, support: np.ndarray, sg: float) -> np.ndarray:
+        """Keep the landing point at least 1.6 x lateral beside the support foot (no crossing)."""
+        Rs = _r2(support[2])
+        rel = Rs.T @ (land[:2] - support[:2])
+        rel[1] = sg * max(sg * rel[1], 1.6 * self.p.lateral)
+        out = land.copy()
+        out[:2] = support[:2] + Rs @ rel
+        return out
 
     def _plan(self, cmd: np.ndarray) -> None:
         """Footsteps for the preview horizon under a constant ``cmd`` (eq. 4 per step)."""
@@ -164,27 +271,29 @@ class LipmWalker:
         plan = []
         for _ in range(int(math.ceil(p.preview / p.step_period)) + 2):
             support = "Right" if swing == "Left" else "Left"
-            Rt = _rz(torso[2])[:2, :2]
-            nxt = np.array([*(torso[:2] + Rt @ d[:2]), torso[2] + d[2]])
+            nxt = np.array([*(torso[:2] + _r2(torso[2]) @ d[:2]), torso[2] + d[2]])
             sg = 1.0 if swing == "Left" else -1.0
-            land = np.array(
-                [*(nxt[:2] + _rz(nxt[2])[:2, :2] @ np.array([0.04, sg * p.lateral])), nxt[2]]
-            )
-            Rs = _rz(feet[support][2])[:2, :2]
-            rel = Rs.T @ (land[:2] - feet[support][:2])
-            rel[1] = sg * max(sg * rel[1], 1.6 * p.lateral)  # legs never cross
-            land[:2] = feet[support][:2] + Rs @ rel
+            land = np.array([*(nxt[:2] + _r2(nxt[2]) @ np.array([0.04, sg * p.lateral])), nxt[2]])
+            land = self._limit_landing(land, feet[support], sg)
             plan.append((swing, feet[swing].copy(), land, feet[support].copy(), torso.copy(), nxt))
             feet[swing] = land
             torso = nxt
             swing = support
         self.plan = plan
 
+    def _landing(self) -> np.ndarray:
+        """Where the current swing foot lands: the plan plus the capture-point adjustment."""
+        swing, _, land, sup, _, _ = self.plan[0]
+        out = land.copy()
+        out[:2] += self.adj
+        return self._limit_landing(out, sup, 1.0 if swing == "Left" else -1.0)
+
     def _zmp_ref(self) -> np.ndarray:
         """(n_prev, 2) ZMP reference from now over the preview horizon."""
         p = self.p
         out = np.empty((self.n_prev, 2))
         ss = p.step_period - p.double_support
+        land0 = self._landing()
         for j in range(self.n_prev):
             tau = self.t_step + j * p.dt
             if tau < 0:  # initial stand: centre, then move onto the first support foot
@@ -203,31 +312,49 @@ class LipmWalker:
             if r < ss:
                 out[j] = sup
             else:  # double support: towards the foot that just landed
-                nxt = self._zmp_point(self.plan[k][2])
+                nxt = self._zmp_point(land0 if k == 0 else self.plan[k][2])
                 out[j] = sup + (r - ss) / p.double_support * (nxt - sup)
         return out
 
-    def stabilise(
-        self, q_ref: np.ndarray, roll: float, pitch: float, wx: float, wy: float
-    ) -> np.ndarray:
-        """Ankle feedback of the measured torso roll/pitch (rad) and rates (rad/s)."""
-        out = q_ref.copy()
-        out[self.ankle_idx[:, 0]] += self.p.ankle_fb * pitch + self.p.ankle_fd * wy
-        out[self.ankle_idx[:, 1]] += self.p.ankle_fb * roll + self.p.ankle_fd * wx
-        return out
+    def _feedback_step(self, obs: dict[str, Any]) -> None:
+        """Capture-point error relative to the support foot -> landing adjustment."""
+        p = self.p
+        swing, _, _, sup_p, _, _ = self.plan[0]
+        support = "Right" if swing == "Left" else "Left"
+        sup_m = obs["feet"][support]
+        Rm, Rp = _r2(sup_m[2]), _r2(sup_p[2])
+        rel_m = Rm.T @ (obs["com"][:2] - sup_m[:2])
+        vel_m = Rm.T @ obs["comvel"][:2]
+        rel_p = Rp.T @ (self.state[:, 0] - sup_p[:2])
+        vel_p = Rp.T @ self.state[:, 1]
+        e = Rp @ (p.cp_pos * (rel_m - rel_p) + (vel_m - vel_p) / self.omega)
+        if p.cp_bias_tau > 0:
+            self.cp_bias += min(p.dt / p.cp_bias_tau, 1.0) * (e - self.cp_bias)
+            e = e - self.cp_bias
+        a = min(p.dt / max(p.cp_filter, 1e-9), 1.0)
+        self.cp_err += a * (e - self.cp_err)
+        ss = p.step_period - p.double_support
+        if 0.0 < self.t_step < 0.8 * ss:  # freeze the landing point shortly before touch-down
+            self.adj = np.clip(p.step_fb * self.cp_err, -p.step_max, p.step_max)
 
-    def update(self, cmd: np.ndarray) -> np.ndarray:
-        """Advance one control period under command (vx m/s, vy m/s, w rad/s); joint targets."""
+    def update(self, cmd: np.ndarray, obs: dict[str, Any] | None = None) -> np.ndarray:
+        """Advance one control period under command (vx m/s, vy m/s, w rad/s); joint targets.
+
+        ``obs`` (from :class:`Observer`) closes the loop; without it the walk is open-loop.
+        """
         p = self.p
         if not self.plan:
-            self._plan(cmd)
+            self._plan(self._slew(cmd))
         if self.t_step >= p.step_period - 1e-9:  # step boundary: the swing foot has landed
-            swing, _, land, _, _, nxt = self.plan[0]
-            self.feet[swing] = land
+            swing, _, _, _, _, nxt = self.plan[0]
+            self.feet[swing] = self._landing()
             self.torso = nxt
             self.swing = "Right" if swing == "Left" else "Left"
             self.t_step -= p.step_period
-            self._plan(cmd)
+            self.adj = np.zeros(2)
+            self._plan(self._slew(cmd))
+        if obs is not None and p.step_fb != 0.0 and self.t_step > 0.0:
+            self._feedback_step(obs)
         zref = self._zmp_ref()
         for ax in range(2):
             x = self.state[ax]
@@ -237,49 +364,74 @@ class LipmWalker:
             self.state[ax] = self.A @ x + self.B[:, 0] * u
         self.t_step += p.dt
         com = self.state[:, 0]
-        targets = {}
         if self.t_step <= 0:
             yaw = self.torso[2]
             targets = {s: (self.feet[s], 0.0) for s in self.LEGS}
+            stance = None
         else:
-            swing, frm, land, _, t0, t1 = self.plan[0]
+            swing, frm, _, _, t0, t1 = self.plan[0]
+            land = self._landing()
             ss = p.step_period - p.double_support
             s = min(self.t_step / ss, 1.0)
             blend = 0.5 - 0.5 * math.cos(math.pi * s)
             sw = frm + blend * (land - frm)
             yaw = t0[2] + min(self.t_step / p.step_period, 1.0) * (t1[2] - t0[2])
-            other = "Right" if swing == "Left" else "Left"
-            targets = {swing: (sw, p.lift * math.sin(math.pi * s)), other: (self.feet[other], 0.0)}
-        torso_xy = com - _rz(yaw)[:2, :2] @ self.com_off
-        self._ik(np.array([torso_xy[0], torso_xy[1], self.torso_z]), yaw, targets)
-        return self.q_ref
+            stance = "Right" if swing == "Left" else "Left"
+            targets = {swing: (sw, p.lift * math.sin(math.pi * s)), stance: (self.feet[stance], 0.0)}
+        roll = pitch = 0.0
+        if obs is not None and p.tilt_ik:
+            roll, pitch = p.tilt_ik * obs["roll"], p.tilt_ik * obs["pitch"]
+        self._ik(com, roll, pitch + p.torso_lean, yaw, targets)
+        out = self.q_ref.copy()
+        if obs is not None:
+            for leg in self.LEGS:
+                hp, hr, ap, ar = self.fb_idx[leg]
+                out[ap] += p.ankle_fb * obs["pitch"] + p.ankle_fd * obs["wy"]
+                out[ar] += p.ankle_fb * obs["roll"] + p.ankle_fd * obs["wx"]
+                if stance is None or leg == stance:
+                    out[hp] += p.hip_fb * obs["pitch"] + p.hip_fd * obs["wy"]
+                    out[hr] += p.hip_fb * obs["roll"] + p.hip_fd * obs["wx"]
+        return out
 
-    def _ik(self, torso_pos: np.ndarray, yaw: float, targets: dict, iters: int = 3) -> None:
+    def _ik(
+        self, com: np.ndarray, roll: float, pitch: float, yaw: float, targets: dict
+    ) -> None:
+        """Leg joint angles that put the feet on ``targets`` with the whole-body CoM (xy) of the
+        kinematic model on ``com`` (torso at height ``torso_z`` with the given attitude)."""
         mj, m, d = self.mj, self.m, self.kin
-        d.qpos[0:3] = torso_pos
-        d.qpos[3:7] = [math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)]
+        d.qpos[2] = self.torso_z
+        d.qpos[3:7] = _quat_rpy(roll, pitch, yaw)
         jacp = np.zeros((3, m.nv))
         jacr = np.zeros((3, m.nv))
-        for _ in range(iters):
+        for it in range(3):
+            d.qpos[0:2] = com - self.torso_off
+            for _ in range(2):
+                mj.mj_kinematics(m, d)
+                for leg, (foot, lift) in targets.items():
+                    b = self.foot_body[leg]
+                    goal = np.array([foot[0], foot[1], 0.0301 + lift])
+                    e_p = goal - d.xpos[b]
+                    R = d.xmat[b].reshape(3, 3)
+                    Re = _rz(foot[2]) @ R.T
+                    e_r = 0.5 * np.array(
+                        [Re[2, 1] - Re[1, 2], Re[0, 2] - Re[2, 0], Re[1, 0] - Re[0, 1]]
+                    )
+                    mj.mj_jacBody(m, d, jacp, jacr, b)
+                    cols = self.leg_d[leg]
+                    J = np.vstack([jacp[:, cols], jacr[:, cols]])
+                    e = np.concatenate([e_p, e_r])
+                    dq = J.T @ np.linalg.solve(J @ J.T + 1e-4 * np.eye(6), e)
+                    d.qpos[self.leg_q[leg]] += dq
             mj.mj_kinematics(m, d)
-            for leg, (foot, lift) in targets.items():
-                b = self.foot_body[leg]
-                goal = np.array([foot[0], foot[1], 0.0301 + lift])
-                e_p = goal - d.xpos[b]
-                R = d.xmat[b].reshape(3, 3)
-                Rg = _rz(foot[2])
-                Re = Rg @ R.T
-                e_r = 0.5 * np.array(
-                    [Re[2, 1] - Re[1, 2], Re[0, 2] - Re[2, 0], Re[1, 0] - Re[0, 1]]
-                )
-                mj.mj_jacBody(m, d, jacp, jacr, b)
-                cols = self.leg_d[leg]
-                J = np.vstack([jacp[:, cols], jacr[:, cols]])
-                e = np.concatenate([e_p, e_r])
-                dq = J.T @ np.linalg.solve(J @ J.T + 1e-4 * np.eye(6), e)
-                d.qpos[self.leg_q[leg]] += dq
+            mj.mj_comPos(m, d)
+            self.torso_off = d.subtree_com[1][:2] - d.qpos[0:2]
         for leg in self.LEGS:
             self.q_ref[np.searchsorted(self.t1.act_qadr, self.leg_q[leg])] = d.qpos[self.leg_q[leg]]
+
+
+def _gains(t1: T1Model, params: WalkParams) -> T1Model:
+    g = params.pd_gain_scale
+    return replace(t1, kp=t1.kp * g, kd=t1.kd * math.sqrt(g))
 
 
 def walk_mujoco(
@@ -288,19 +440,21 @@ def walk_mujoco(
     seconds: float,
     params: WalkParams = WalkParams(),
     settle_s: float = 0.3,
+    feedback: bool = True,
 ):
-    """Walk the T1 in native MuJoCo; ``command_fn(t, pose) -> (vx, vy, w)`` (body frame).
+    """Walk the T1 in native MuJoCo; ``command_fn(t, pose) -> (vx, vy, w)`` (body frame), or
+    None to stop the run (the manoeuvre is complete).
 
     Returns (times (k,) s, torso poses (k, 3) x m, y m, yaw rad, fell: bool).
     """
     mujoco = require("mujoco")
     from .mujoco_sim import _pd, settle_mujoco
 
-    g = params.pd_gain_scale
-    t1 = replace(t1, kp=t1.kp * g, kd=t1.kd * math.sqrt(g))
+    t1 = _gains(t1, params)
     m = t1.model
     data = settle_mujoco(t1, settle_s)
     walker = LipmWalker(t1, params)
+    observe = Observer(t1)
     q_ref = t1.q_stance[t1.act_qadr]
     dt = m.opt.timestep
     every = int(round(params.dt / dt))
@@ -308,20 +462,16 @@ def walk_mujoco(
     fell = False
     for i in range(int(round(seconds / dt))):
         if i % every == 0:
-            pose = _torso_pose(data)
+            obs = observe(data.qpos, data.qvel)
             times.append(i * dt)
-            poses.append(pose)
-            if data.qpos[2] < TORSO_STANDING_MIN:
+            poses.append(obs["pose"])
+            if obs["height"] < TORSO_STANDING_MIN:
                 fell = True
                 break
-            roll, pitch = _roll_pitch(data.qpos[3:7])
-            q_ref = walker.stabilise(
-                walker.update(np.asarray(command_fn(i * dt, pose), float)),
-                roll,
-                pitch,
-                data.qvel[3],
-                data.qvel[4],
-            )
+            cmd = command_fn(i * dt, obs["pose"])
+            if cmd is None:
+                break
+            q_ref = walker.update(np.asarray(cmd, float), obs if feedback else None)
         _pd(t1, data, q_ref)
         mujoco.mj_step(m, data)
     return np.array(times), np.array(poses), fell
@@ -334,11 +484,12 @@ def walk_brax(
     params: WalkParams = WalkParams(),
     settle_s: float = 0.3,
     brax_t1=None,
+    feedback: bool = True,
 ):
     """The same walk as :func:`walk_mujoco`, physics in brax (generalized pipeline).
 
-    The pattern generator and IK run on the host each control period; the physics chunk of
-    ``params.dt`` is jitted. Returns (times (k,) s, torso poses (k, 3), fell: bool).
+    The pattern generator, observer and IK run on the host each control period; the physics
+    chunk of ``params.dt`` is jitted. Returns (times (k,) s, torso poses (k, 3), fell: bool).
     """
     from .brax_sim import BraxT1
 
@@ -349,39 +500,20 @@ def walk_brax(
         raise ValueError(f"BraxT1.every = {b.every} must equal params.dt / timestep = {every}")
     state = b.settle(settle_s)
     g = params.pd_gain_scale
-    walker = LipmWalker(replace(t1, kp=t1.kp * g, kd=t1.kd * math.sqrt(g)), params)
+    walker = LipmWalker(_gains(t1, params), params)
+    observe = Observer(t1)
     times, poses = [], []
     fell = False
     for i in range(int(round(seconds / params.dt))):
-        q = np.asarray(state.q)
-        qd = np.asarray(state.qd)
-        w, x, y, z = q[3:7]
-        pose = np.array([q[0], q[1], math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))])
+        obs = observe(np.asarray(state.q), np.asarray(state.qd))
         times.append(i * params.dt)
-        poses.append(pose)
-        if q[2] < TORSO_STANDING_MIN:
+        poses.append(obs["pose"])
+        if obs["height"] < TORSO_STANDING_MIN:
             fell = True
             break
-        roll, pitch = _roll_pitch(q[3:7])
-        q_ref = walker.stabilise(
-            walker.update(np.asarray(command_fn(i * params.dt, pose), float)),
-            roll,
-            pitch,
-            qd[3],
-            qd[4],
-        )
+        cmd = command_fn(i * params.dt, obs["pose"])
+        if cmd is None:
+            break
+        q_ref = walker.update(np.asarray(cmd, float), obs if feedback else None)
         state = b.run_to(state, q_ref, g)
     return np.array(times), np.array(poses), fell
-
-
-def _roll_pitch(quat: np.ndarray) -> tuple[float, float]:
-    w, x, y, z = quat
-    roll = math.atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))
-    pitch = math.asin(max(-1.0, min(1.0, 2 * (w * y - z * x))))
-    return roll, pitch
-
-
-def _torso_pose(data) -> np.ndarray:
-    w, x, y, z = data.qpos[3:7]
-    yaw = math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
-    return np.array([data.qpos[0], data.qpos[1], yaw])
