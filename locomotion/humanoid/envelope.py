@@ -57,13 +57,14 @@ def measure_command(
     t1: T1Model,
     cmd: Sequence[float],
     seconds: float = 15.0,
-    params: WalkParams = WalkParams(),
+    params: WalkParams | None = None,
     engine: str = "mujoco",
     brax_t1: Any = None,
     skip_s: float | None = None,
 ) -> dict[str, Any]:
     """Walk one constant command for ``seconds``; achieved velocity over the second half
     (or after ``skip_s``), whether and when it fell."""
+    params = params or WalkParams()
     fn = lambda t, pose: cmd  # noqa: E731
     if engine == "mujoco":
         times, poses, fell = walk_mujoco(t1, fn, seconds, params)
@@ -86,11 +87,12 @@ def measure_command(
 def measure_envelope(
     commands: Sequence[Sequence[float]] = DEFAULT_COMMANDS,
     seconds: float = 15.0,
-    params: WalkParams = WalkParams(),
+    params: WalkParams | None = None,
     t1: T1Model | None = None,
 ) -> dict[str, Any]:
     """Every command in native MuJoCo; raw rows plus the parameters and duration."""
     t1 = t1 or load_t1()
+    params = params or WalkParams()
     rows = [measure_command(t1, c, seconds, params) for c in commands]
     return {"engine": "mujoco", "seconds": seconds, "walker": params.as_dict(), "rows": rows}
 
@@ -165,7 +167,11 @@ def envelope_to_profile(
         written.append(key)
 
     curves = []
-    for axis, key, unit in ((0, "tracking_vx", "m/s"), (1, "tracking_vy", "m/s"), (2, "tracking_turn", "rad/s")):
+    for axis, key, unit in (
+        (0, "tracking_vx", "m/s"),
+        (1, "tracking_vy", "m/s"),
+        (2, "tracking_turn", "rad/s"),
+    ):
         pts = _monotone(_axis_points(rows, axis))
         pts = [[round(c, 4), round(a, 4)] for c, a in pts]
         if axis == 2 and not any(c < 0 for c, _ in pts):  # mirror turning if only one side ran
@@ -187,13 +193,28 @@ def envelope_to_profile(
         "m/s",
         "fastest backward speed without a fall",
     )
-    put("envelope_vy", max(max(abs(a) for _, a in vy), 1e-3), "m/s", "fastest side speed without a fall")
-    put("envelope_turn", max(max(abs(a) for _, a in vt), 1e-3), "rad/s", "fastest turn without a fall")
+    put(
+        "envelope_vy",
+        max(max(abs(a) for _, a in vy), 1e-3),
+        "m/s",
+        "fastest side speed without a fall",
+    )
+    put(
+        "envelope_turn",
+        max(max(abs(a) for _, a in vt), 1e-3),
+        "rad/s",
+        "fastest turn without a fall",
+    )
     w = envelope["walker"]
     put("step_period", w["step_period"], "s", "the walker's step period (WalkParams.step_period)")
     put("accel_vx", w["accel_x"], "m/s^2", "the walker's command slew limit (WalkParams.accel_x)")
     put("accel_vy", w["accel_y"], "m/s^2", "the walker's command slew limit (WalkParams.accel_y)")
-    put("accel_turn", w["accel_turn"], "rad/s^2", "the walker's command slew limit (WalkParams.accel_turn)")
+    put(
+        "accel_turn",
+        w["accel_turn"],
+        "rad/s^2",
+        "the walker's command slew limit (WalkParams.accel_turn)",
+    )
     lo, hi = list(params["command_low"]["value"]), list(params["command_high"]["value"])
     params["command_low"]["value"] = [min(lo[k], min(c for c, _ in curves[k])) for k in range(3)]
     params["command_high"]["value"] = [max(hi[k], max(c for c, _ in curves[k])) for k in range(3)]

@@ -1,0 +1,88 @@
+"""Humanoid extra: the LIPM walker walks the T1 in native MuJoCo, and the envelope measurement
+turns short runs into a valid profile (CPU, a few seconds)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from locomotion import load_profile
+
+pytestmark = pytest.mark.humanoid
+
+pytest.importorskip("mujoco", reason="needs the humanoid extra: pip install 'teamenv[humanoid]'")
+pytest.importorskip("rcsssmj")
+
+
+@pytest.fixture(scope="module")
+def t1():
+    from locomotion.humanoid.t1 import load_t1
+
+    return load_t1()
+
+
+def test_walker_walks_forward(t1) -> None:
+    from locomotion.humanoid.walker import walk_mujoco
+
+    times, poses, fell = walk_mujoco(t1, lambda t, pose: (0.3, 0.0, 0.0), 3.0)
+    assert not fell and times[-1] > 2.9
+    assert poses[-1, 0] > 0.4  # ~0.6 m: 0.5 s weight shift, then 0.3 m/s after the slew
+    assert abs(poses[-1, 1]) < 0.2 and abs(poses[-1, 2]) < 0.3
+
+
+def test_walker_turns_and_walks_backward(t1) -> None:
+    from locomotion.humanoid.walker import walk_mujoco
+
+    _, poses, fell = walk_mujoco(t1, lambda t, pose: (0.0, 0.0, 0.5), 3.0)
+    assert not fell and np.unwrap(poses[:, 2])[-1] > 0.6
+    _, poses, fell = walk_mujoco(t1, lambda t, pose: (-0.2, 0.0, 0.0), 3.0)
+    assert not fell and poses[-1, 0] < -0.2
+
+
+def test_walker_stops_when_the_command_function_returns_none(t1) -> None:
+    from locomotion.humanoid.walker import walk_mujoco
+
+    times, _, fell = walk_mujoco(t1, lambda t, pose: None if t > 0.5 else (0, 0, 0), 3.0)
+    assert not fell and times[-1] == pytest.approx(0.5, abs=0.02)
+
+
+def test_achieved_velocity_is_body_frame() -> None:
+    from locomotion.humanoid.envelope import achieved_velocity
+
+    t = np.linspace(0, 4, 401)
+    w, v = 0.5, 0.3  # circle: body-frame (0.3, 0, 0.5)
+    yaw = w * t
+    poses = np.stack([v / w * np.sin(yaw), v / w * (1 - np.cos(yaw)), yaw], axis=1)
+    poses[:, 2] = (poses[:, 2] + math.pi) % (2 * math.pi) - math.pi  # wrapped, as measured
+    np.testing.assert_allclose(achieved_velocity(t, poses, 1.0), [v, 0.0, w], atol=2e-3)
+
+
+def test_envelope_measurement_writes_a_valid_profile(t1, tmp_path) -> None:
+    from locomotion.humanoid.envelope import envelope_to_profile, measure_envelope
+    from locomotion.humanoid.measure import base_profile, write_measured_profile
+
+    cmds = [(0.3, 0.0, 0.0), (-0.2, 0.0, 0.0), (0.0, 0.1, 0.0), (0.0, 0.0, 0.5), (3.0, 0.0, 0.0)]
+    env = measure_envelope(cmds, seconds=3.0, t1=t1)
+    rows = {tuple(r["command"]): r for r in env["rows"]}
+    assert rows[(3.0, 0.0, 0.0)]["fell"]  # far outside the envelope
+    assert rows[(0.3, 0.0, 0.0)]["achieved"][0] > 0.2
+    prof = envelope_to_profile(base_profile("t1_mj"), env, "pytest", name="t1_test")
+    p = load_profile(write_measured_profile(prof, tmp_path / "t1_test.json"))
+    assert p.name == "t1_test"
+    for k in ("tracking_vx", "envelope_vx_forward", "envelope_turn", "step_period"):
+        assert p.kinds[k] == "measured-humanoid" and "pytest" in p.sources[k]
+    assert p.envelope_vx_forward == pytest.approx(rows[(0.3, 0.0, 0.0)]["achieved"][0], abs=1e-3)
+    assert 3.0 not in p.tracking[0][0]  # the fallen command is not a tracking point
+    assert p.tracking[2][0].min() < 0  # turning mirrored from the one measured side
+    # falls and kicks stay those of the base profile
+    assert p.push_fall_speed_forward == load_profile("t1_mj").push_fall_speed_forward
+
+
+def test_shipped_lipm_profile_is_humanoid_measured() -> None:
+    p = load_profile("t1_lipm")
+    assert p.kinds["tracking_vx"] == "measured-humanoid"
+    assert p.kinds["envelope_vx_forward"] == "measured-humanoid"
+    t1_mj = load_profile("t1_mj")
+    assert t1_mj.kinds["tracking_vx"] == "measured"  # the server's numbers stay in t1_mj
