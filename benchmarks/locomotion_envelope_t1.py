@@ -31,7 +31,14 @@ def main() -> None:
     ap.add_argument("--report", default=None, help="also write the raw rows as JSON here")
     ap.add_argument("--base", default="t1_mj")
     ap.add_argument("--brax", type=int, default=0, help="also run the first N commands in brax")
-    ap.add_argument("--brax-seconds", type=float, default=3.0)
+    ap.add_argument("--brax-seconds", type=float, default=2.0)
+    ap.add_argument(
+        "--brax-timestep",
+        type=float,
+        default=0.0005,
+        help="physics step of the brax/MuJoCo comparison (s); brax's explicit PD at the "
+        "walker's gains is unstable at the model's 2 ms",
+    )
     args = ap.parse_args()
     command = "python " + " ".join(shlex.quote(x) for x in sys.argv)
     t1 = load_t1()
@@ -51,19 +58,25 @@ def main() -> None:
     if args.brax:
         from locomotion.humanoid.brax_sim import BraxT1
 
-        b = BraxT1(t1, every=int(round(params.dt / t1.model.opt.timestep)))
+        t1b = load_t1()
+        t1b.model.opt.timestep = args.brax_timestep
+        b = BraxT1(t1b, every=int(round(params.dt / args.brax_timestep)))
         rows = []
         for cmd in DEFAULT_COMMANDS[: args.brax]:
             tb = time.perf_counter()
-            rb = measure_command(t1, cmd, args.brax_seconds, params, "brax", brax_t1=b, skip_s=1.0)
-            rm = measure_command(t1, cmd, args.brax_seconds, params, "mujoco", skip_s=1.0)
+            rb = measure_command(t1b, cmd, args.brax_seconds, params, "brax", brax_t1=b, skip_s=1.0)
+            rm = measure_command(t1b, cmd, args.brax_seconds, params, "mujoco", skip_s=1.0)
             rows.append({"command": list(cmd), "brax": rb, "mujoco": rm})
             print(
                 f"   brax vs mujoco {cmd}: distance {rb['distance']:.3f} vs {rm['distance']:.3f} m, "
                 f"turned {rb['turned']:.3f} vs {rm['turned']:.3f} rad, fell {rb['fell']} vs "
                 f"{rm['fell']} ({time.perf_counter() - tb:.0f} s wall)"
             )
-        env["brax_subset"] = {"seconds": args.brax_seconds, "rows": rows}
+        env["brax_subset"] = {
+            "seconds": args.brax_seconds,
+            "timestep": args.brax_timestep,
+            "rows": rows,
+        }
     prof = envelope_to_profile(base_profile(args.base), env, command)
     for k in (
         "tracking_vx",

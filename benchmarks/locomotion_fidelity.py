@@ -32,7 +32,9 @@ RCSSSMJ_STEADY = {
 
 
 WARMUP_S = 1.0  # both models step in place this long before a manoeuvre starts (s)
-STOP_SPEED = 0.03  # m/s: "stopped" = moved less than this x step period over the last step
+STOP_SPEED = (
+    0.03  # m/s: "stopped" = mean planar speed over the last gait cycle (2 steps) below this
+)
 
 
 def _rel(origin: np.ndarray, pose: np.ndarray) -> np.ndarray:
@@ -45,8 +47,9 @@ def _rel(origin: np.ndarray, pose: np.ndarray) -> np.ndarray:
 class _Tracker:
     """Turns a manoeuvre policy ``policy(rel_pose, speed, t) -> command | None`` into a
     ``command_fn(t, world_pose)`` for either model: the pose is taken relative to the pose at
-    the end of the warm-up (yaw unwrapped), speed is the planar speed over the last step
-    period, and the time when the policy first returns None is recorded."""
+    the end of the warm-up (yaw unwrapped), speed is the planar speed over the last two step
+    periods (one gait cycle, so the humanoid's sway cancels), and the time when the policy
+    first returns None is recorded."""
 
     def __init__(self, policy: Callable, step_period: float, warmup: float = WARMUP_S) -> None:
         self.policy, self.T, self.warmup = policy, step_period, warmup
@@ -73,8 +76,8 @@ class _Tracker:
         tm = t - self.warmup
         self.hist.append((tm, rel))
         self.path.append(rel)
-        old = [r for (tt, r) in self.hist if tt <= tm - self.T]
-        speed = float(np.hypot(*(rel[:2] - old[-1][:2]))) / self.T if old else math.inf
+        old = [r for (tt, r) in self.hist if tt <= tm - 2 * self.T]
+        speed = float(np.hypot(*(rel[:2] - old[-1][:2]))) / (2 * self.T) if old else math.inf
         cmd = self.policy(rel, speed, tm)
         if cmd is None:
             self.done = tm

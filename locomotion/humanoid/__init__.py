@@ -7,7 +7,8 @@ lazily and a missing one raises ImportError naming ``pip install 'teamenv[humano
 * :mod:`.brax_sim` -- batched brax (generalized pipeline) rollouts;
 * :mod:`.mujoco_sim` -- the same experiment in native MuJoCo (fast reference);
 * :mod:`.measure` -- push/fall thresholds, fall duration, writing a measured profile;
-* :mod:`.walker` -- experimental 3D-LIPM/ZMP preview-control walker with leg IK (seed 001 4.2).
+* :mod:`.walker` -- 3D-LIPM/ZMP preview-control walker with leg IK and capture-point feedback;
+* :mod:`.envelope` -- its walking envelope (commanded -> achieved velocity) as a profile.
 """
 
 from __future__ import annotations

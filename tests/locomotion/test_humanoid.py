@@ -105,8 +105,8 @@ def test_hand_entered_override_is_kept(brax_grid) -> None:
     assert prof["parameters"]["push_fall_speed_forward"]["value"] == 0.5
 
 
-def test_experimental_walker_steps_in_place_in_mujoco(t1) -> None:
-    """The 3D-LIPM walker (experimental) keeps the T1 up while stepping in place for 3 s."""
+def test_walker_steps_in_place_in_mujoco(t1) -> None:
+    """The 3D-LIPM walker keeps the T1 up while stepping in place for 3 s."""
     from locomotion.humanoid.walker import walk_mujoco
 
     times, poses, fell = walk_mujoco(t1, lambda t, pose: (0.0, 0.0, 0.0), 3.0)
