@@ -443,6 +443,8 @@ class SoccerParallelEnv(ParallelEnv):
 
     def _infos(self, agents: list[str], report: CycleReport, dropped: dict) -> dict:
         infos: dict[str, dict] = {a: {} for a in agents}
+        if not agents:
+            return infos
         names = self.player_names
         for agent, problems in dropped.items():
             if agent in infos:

@@ -13,16 +13,6 @@ SELF_DIM, BALL_DIM, PLAYER_DIM, GAME_DIM, HEARD_DIM = 7, 4, 5, 4, 4
 N_PLAY_MODES = len(PlayMode)
 
 
-class HeardSlot:
-    """What one listener heard this cycle, in slot order (0 self, 1 teammate, 2 opponent...)."""
-
-    __slots__ = ("texts", "info")
-
-    def __init__(self, n_slots: int) -> None:
-        self.texts: list[str] = [""] * n_slots
-        self.info = np.zeros((n_slots, HEARD_DIM))
-
-
 def flat_observation_size(team_size: int, heard_slots: int) -> int:
     """Length of the flat (Box) observation vector."""
     return SELF_DIM + BALL_DIM + 2 * team_size * PLAYER_DIM + N_PLAY_MODES + GAME_DIM + \
@@ -42,81 +32,87 @@ class StatePerception:
         self.team_size = team_size
         self.heard_slots = heard_slots
         self.team_of = np.repeat([0, 1], team_size)
+        n = 2 * team_size
+        self._team_list = self.team_of.tolist()
+        self._rows = np.arange(n)
+        # Column order of the players for each agent: own team first (uniform order).
+        order = [np.arange(n), np.r_[np.arange(team_size, n), np.arange(team_size)]]
+        self._cols = np.stack([order[t] for t in self._team_list]) if n else \
+            np.zeros((0, 0), dtype=np.intp)
+        # One float64 row per agent, laid out as the flat observation; the Dict parts are
+        # views of its float32 copy.
+        self._o_ball = SELF_DIM
+        self._o_players = self._o_ball + BALL_DIM
+        self._o_mode = self._o_players + n * PLAYER_DIM
+        self._o_game = self._o_mode + N_PLAY_MODES
+        self._o_heard = self._o_game + GAME_DIM
+        self._width = self._o_heard + heard_slots * HEARD_DIM
 
     def observe(
         self, poses: np.ndarray, velocities: np.ndarray, ball: np.ndarray, fallen: np.ndarray,
         mode: PlayMode, time_s: float, half: int, score: Sequence[int],
-        attack_sign: Sequence[float], heard: Sequence[HeardSlot], flat: bool = False,
+        attack_sign: Sequence[float], heard_info: np.ndarray, heard_texts: Sequence[tuple],
+        flat: bool = False,
     ) -> list[Any]:
-        """Observations of all 2N agents, in player order (Dict form, or rows when ``flat``)."""
+        """Observations of all 2N agents, in player order (Dict form, or rows when ``flat``).
+
+        ``heard_info`` (n, K, 4): present, from self, from a teammate, direction per heard
+        slot; ``heard_texts``: per agent, a tuple of K texts ("" = empty slot)."""
         n, size = len(poses), self.team_size
-        sign = np.asarray(attack_sign, dtype=float)[self.team_of]  # (n,)
+        team_of = self.team_of
+        rows = np.empty((n, self._width))
+        sign = np.asarray(attack_sign, dtype=float)[team_of]  # (n,)
         x, y, h = poses[:, 0], poses[:, 1], poses[:, 2]
         cos_h, sin_h = np.cos(h), np.sin(h)
 
-        self_obs = np.empty((n, SELF_DIM))
-        self_obs[:, 0] = sign * x
-        self_obs[:, 1] = sign * y
-        self_obs[:, 2] = np.where(sign > 0, h, _wrap(h + np.pi))
-        self_obs[:, 3] = sign * velocities[:, 0]
-        self_obs[:, 4] = sign * velocities[:, 1]
-        self_obs[:, 5] = velocities[:, 2]
-        self_obs[:, 6] = fallen
+        rows[:, 0] = sign * x
+        rows[:, 1] = sign * y
+        rows[:, 2] = np.where(sign > 0, h, _wrap(h + np.pi))
+        rows[:, 3] = sign * velocities[:, 0]
+        rows[:, 4] = sign * velocities[:, 1]
+        rows[:, 5] = velocities[:, 2]
+        rows[:, 6] = fallen
 
+        o = self._o_ball
         bdx, bdy = ball[0] - x, ball[1] - y
-        ball_obs = np.empty((n, BALL_DIM))
-        ball_obs[:, 0] = cos_h * bdx + sin_h * bdy
-        ball_obs[:, 1] = -sin_h * bdx + cos_h * bdy
-        ball_obs[:, 2] = cos_h * ball[2] + sin_h * ball[3]
-        ball_obs[:, 3] = -sin_h * ball[2] + cos_h * ball[3]
+        rows[:, o] = cos_h * bdx + sin_h * bdy
+        rows[:, o + 1] = -sin_h * bdx + cos_h * bdy
+        rows[:, o + 2] = cos_h * ball[2] + sin_h * ball[3]
+        rows[:, o + 3] = -sin_h * ball[2] + cos_h * ball[3]
 
-        dx = x[None, :] - x[:, None]
-        dy = y[None, :] - y[:, None]
-        rel = np.empty((n, n, PLAYER_DIM))
-        rel[:, :, 0] = cos_h[:, None] * dx + sin_h[:, None] * dy
-        rel[:, :, 1] = -sin_h[:, None] * dx + cos_h[:, None] * dy
-        rel[:, :, 2] = _wrap(h[None, :] - h[:, None])
-        rel[:, :, 3] = fallen[None, :]
+        # Every other player, own team first, relative to each agent in its body frame.
+        cols = self._cols
+        rel = rows[:, self._o_players:self._o_mode].reshape(n, n, PLAYER_DIM)
+        c, s, ms = cos_h[:, None], sin_h[:, None], -sin_h[:, None]
+        dx = x[cols] - x[:, None]
+        dy = y[cols] - y[:, None]
+        rel[:, :, 0] = c * dx + s * dy
+        rel[:, :, 1] = ms * dx + c * dy
+        rel[:, :, 2] = _wrap(h[cols] - h[:, None])
+        rel[:, :, 3] = fallen[cols]
         rel[:, :, 4] = 1.0
-        left, right = rel[:, :size], rel[:, size:]
-        # Own team first for every agent.
-        mates = np.where(self.team_of[:, None, None] == 0, left, right)
-        opponents = np.where(self.team_of[:, None, None] == 0, right, left)
 
-        game = np.empty((n, GAME_DIM))
-        game[:, 0] = time_s
-        game[:, 1] = half
-        game[:, 2] = np.where(self.team_of == 0, score[0], score[1])
-        game[:, 3] = np.where(self.team_of == 0, score[1], score[0])
         modes = (int(mode), int(mode.for_team(1)))
+        rows[:, self._o_mode:self._o_game] = 0.0
+        rows[self._rows, self._o_mode + np.take(modes, team_of)] = 1.0
+        o = self._o_game
+        own_score = np.asarray(score, dtype=float)
+        rows[:, o] = time_s
+        rows[:, o + 1] = half
+        rows[:, o + 2] = own_score[team_of]
+        rows[:, o + 3] = own_score[1 - team_of]
+        rows[:, self._o_heard:] = heard_info.reshape(n, -1)
 
-        heard_info = np.stack([slot.info for slot in heard]) if n else \
-            np.zeros((0, self.heard_slots, HEARD_DIM))
-
+        out = rows.astype(np.float32)
         if flat:
-            mode_onehot = np.zeros((n, N_PLAY_MODES))
-            mode_onehot[np.arange(n), np.take(modes, self.team_of)] = 1.0
-            return list(np.concatenate([
-                self_obs, ball_obs, mates.reshape(n, -1), opponents.reshape(n, -1),
-                mode_onehot, game, heard_info.reshape(n, -1)], axis=1).astype(np.float32))
-
-        self_obs = self_obs.astype(np.float32)
-        ball_obs = ball_obs.astype(np.float32)
-        mates = mates.astype(np.float32)
-        opponents = opponents.astype(np.float32)
-        game = game.astype(np.float32)
-        heard_info = heard_info.astype(np.float32)
+            return list(out)
+        players = out[:, self._o_players:self._o_mode].reshape(n, n, PLAYER_DIM)
+        team_modes = [modes[t] for t in self._team_list]
         return [
-            {
-                "self": self_obs[i],
-                "ball": ball_obs[i],
-                "teammates": mates[i],
-                "opponents": opponents[i],
-                "play_mode": modes[self.team_of[i]],
-                "game": game[i],
-                "heard_text": tuple(heard[i].texts),
-                "heard": heard_info[i],
-            }
-            for i in range(n)
+            {"self": me, "ball": b, "teammates": mates, "opponents": opps, "play_mode": pm,
+             "game": g, "heard_text": texts, "heard": heard}
+            for me, b, mates, opps, pm, g, texts, heard in zip(
+                out[:, :SELF_DIM], out[:, self._o_ball:self._o_players], players[:, :size],
+                players[:, size:], team_modes, out[:, self._o_game:self._o_heard],
+                heard_texts, out[:, self._o_heard:].reshape(n, self.heard_slots, HEARD_DIM))
         ]
-

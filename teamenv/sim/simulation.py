@@ -13,7 +13,7 @@ import comms
 import locomotion
 from teamenv.config import PhysicsConfig, RulesConfig
 from teamenv.field import FieldSpec
-from teamenv.sim.perception import HeardSlot, StatePerception
+from teamenv.sim.perception import HEARD_DIM, StatePerception
 from teamenv.sim.referee import Referee, RefereeEvent
 from teamenv.sim.world import World, wrap_angle
 
@@ -53,7 +53,17 @@ class CycleReport:
     beams: list[int] = field(default_factory=list)
     beams_refused: list[int] = field(default_factory=list)
     heard: list[list[comms.Heard]] = field(default_factory=list)
-    dropped: list[comms.Drop] = field(default_factory=list)
+    delivery: comms.Delivery | None = None  # the channel's delivery when anybody spoke
+
+    @property
+    def dropped(self) -> list[comms.Drop]:
+        """Every message drop of the cycle (built on first access: it can be long)."""
+        return [] if self.delivery is None else self.delivery.dropped
+
+
+def _slot_rank(msg: comms.Heard) -> int:
+    """Heard-slot order: own message, then teammates', then opponents' (stable)."""
+    return 0 if msg.is_self else (1 if msg.teammate else 2)
 
 
 class Simulation:
@@ -80,7 +90,7 @@ class Simulation:
         self.perception = StatePerception(team_size, self.heard_slots)
         self.cycle = 0
         self.rng = np.random.default_rng(0)
-        self._heard = [HeardSlot(self.heard_slots) for _ in range(self.n)]
+        self._clear_heard()
         self.profile_phases = bool(profile_phases)
         # float() returns 0.0: with profiling off every phase adds 0 and the clock is not read.
         self._clock = time.perf_counter if self.profile_phases else float
@@ -99,7 +109,15 @@ class Simulation:
         self.channel.reset()
         self.referee.place_for_start(self.world)
         self.world.impacts[:] = 0.0
-        self._heard = [HeardSlot(self.heard_slots) for _ in range(self.n)]
+        self._clear_heard()
+
+    def _clear_heard(self) -> None:
+        # What each listener heard this cycle, in slot order (0 self, 1 teammate, 2 opponent
+        # for simspark): texts per listener and (n, K, 4) present, self, teammate, direction.
+        self._no_texts = ("",) * self.heard_slots
+        self._heard_texts = [self._no_texts] * self.n
+        self._heard_info = np.zeros((self.n, self.heard_slots, HEARD_DIM))
+        self._heard_any = False
 
     # -- the cycle -------------------------------------------------------------------------
     def step(self, cmd: Commands) -> CycleReport:
@@ -184,24 +202,41 @@ class Simulation:
         there) and fill each listener's heard slots: own message first, then teammates', then
         opponents'."""
         utterances = [comms.Utterance(i, text) for i, text in enumerate(say) if text]
-        for slot in self._heard:
-            if slot.info[:, 0].any():
-                slot.texts = [""] * self.heard_slots
-                slot.info[:] = 0.0
+        if self._heard_any:
+            self._heard_texts = [self._no_texts] * self.n
+            self._heard_info.fill(0.0)
+            self._heard_any = False
         poses = self.world.player_poses()
         delivery = self.channel.deliver(utterances, poses[:, :2], poses[:, 2], self.rng)
         report.heard = delivery.heard
         if not utterances:
             return
-        report.dropped = list(delivery.dropped)
+        report.delivery = delivery
+        n_slots = self.heard_slots
+        texts = self._heard_texts
+        pad = self._no_texts
+        listeners: list[int] = []
+        slots: list[int] = []
+        messages: list[comms.Heard] = []
         for listener, heard in enumerate(delivery.heard):
             if not heard:
                 continue
-            slot = self._heard[listener]
-            ordered = sorted(heard, key=lambda m: 0 if m.is_self else (1 if m.teammate else 2))
-            for k, msg in enumerate(ordered[: self.heard_slots]):
-                slot.texts[k] = msg.text
-                slot.info[k] = (1.0, float(msg.is_self), float(msg.teammate), msg.direction)
+            if len(heard) > 1:
+                heard = sorted(heard, key=_slot_rank)
+                if len(heard) > n_slots:
+                    heard = heard[:n_slots]
+            k = len(heard)
+            texts[listener] = tuple([msg.text for msg in heard]) + pad[k:]
+            messages.extend(heard)
+            listeners.extend([listener] * k)
+            slots.extend(range(k))
+        if messages:
+            _, _, direction, is_self, teammate = zip(*messages)
+            rows = np.array((is_self, teammate, direction), dtype=float)
+            info = self._heard_info
+            info[listeners, slots, 0] = 1.0
+            info[listeners, slots, 1:] = rows.T
+            self._heard_any = True
 
     # -- observations ----------------------------------------------------------------------
     def fallen(self) -> np.ndarray:
@@ -213,7 +248,7 @@ class Simulation:
         out = self.perception.observe(
             self.world.player_poses(), self.world.player_velocities(), self.world.ball_state(),
             self.fallen(), ref.mode, ref.time_s, ref.half, ref.score, ref.attack_sign,
-            self._heard, flat=flat)
+            self._heard_info, self._heard_texts, flat=flat)
         self.phase_s["perception"] += self._clock() - t0
         return out
 

@@ -7,6 +7,11 @@ import math
 import numpy as np
 import pymunk
 
+try:  # bulk body I/O (pymunk >= 6.5); the per-body path below is the fallback
+    import pymunk.batch as _batch
+except ImportError:  # pragma: no cover - older pymunk
+    _batch = None
+
 from teamenv.config import PhysicsConfig
 from teamenv.field import FieldSpec
 
@@ -64,6 +69,26 @@ class World:
         self._launch_table = self._build_launch_table()
         self._poses: np.ndarray | None = None
         self._velocities: np.ndarray | None = None
+        self._setup_batch()
+
+    def _setup_batch(self) -> None:
+        """Use pymunk's batch API for player I/O when the space lists the players first, in
+        order, then the ball (checked here by body id); otherwise read body by body."""
+        self._batch = None
+        if _batch is None:
+            return
+        fields = _batch.BodyFields
+        buf = _batch.Buffer()
+        _batch.get_space_bodies(self.space, fields.BODY_ID, buf)
+        ids = np.frombuffer(buf.int_buf(), dtype=np.uintp).tolist()
+        expected = [body.id for body in self.players] + [self.ball.id]
+        if ids[:len(expected)] != expected:
+            return
+        self._batch = buf
+        self._batch_set = _batch.Buffer()
+        self._read_fields = fields.POSITION | fields.ANGLE | fields.VELOCITY | \
+            fields.ANGULAR_VELOCITY
+        self._vel_fields = fields.VELOCITY | fields.ANGULAR_VELOCITY
 
     # -- geometry --------------------------------------------------------------------------
     def _add_static_geometry(self) -> None:
@@ -111,8 +136,23 @@ class World:
                 self.touches.append(index)
 
     # -- state access ----------------------------------------------------------------------
+    def _read_players(self) -> None:
+        """Poses and velocities of every player in one batch read."""
+        buf = self._batch
+        buf.clear()
+        _batch.get_space_bodies(self.space, self._read_fields, buf)
+        data = np.frombuffer(buf.float_buf(), dtype=float).reshape(-1, 6)[:self.n_players]
+        poses = data[:, :3].copy()
+        poses[:, 2] = wrap_angle(poses[:, 2])
+        poses.flags.writeable = False
+        velocities = data[:, 3:].copy()
+        velocities.flags.writeable = False
+        self._poses, self._velocities = poses, velocities
+
     def player_poses(self) -> np.ndarray:
         """(n, 3) array of x, y, heading (heading wrapped to [-pi, pi)); do not modify it."""
+        if self._poses is None and self._batch is not None:
+            self._read_players()
         if self._poses is None:
             out = np.array([(*body.position, body.angle) for body in self.players],
                            dtype=float).reshape(self.n_players, 3)
@@ -123,6 +163,8 @@ class World:
 
     def player_velocities(self) -> np.ndarray:
         """(n, 3) array of vx, vy (m/s, world frame) and angular velocity (rad/s)."""
+        if self._velocities is None and self._batch is not None:
+            self._read_players()
         if self._velocities is None:
             out = np.array([(*body.velocity, body.angular_velocity) for body in self.players],
                            dtype=float).reshape(self.n_players, 3)
@@ -163,9 +205,7 @@ class World:
         self.impacts[:] = 0.0
         self.touches.clear()
         self._invalidate()
-        for body, (vx, vy, omega) in zip(self.players, world_velocity.tolist()):
-            body.velocity = (vx, vy)
-            body.angular_velocity = omega
+        self._set_player_velocities(world_velocity)
         fastest = max(self.ball.velocity.length, float(np.abs(world_velocity[:, :2]).max(initial=0)))
         substeps = max(1, math.ceil(fastest * dt / self.physics.max_substep_travel))
         h = dt / substeps
@@ -173,6 +213,21 @@ class World:
             self.space.step(h)
         self._invalidate()
         self._roll_ball(dt)
+
+    def _set_player_velocities(self, world_velocity: np.ndarray) -> None:
+        if self._batch is None:
+            for body, (vx, vy, omega) in zip(self.players, world_velocity.tolist()):
+                body.velocity = (vx, vy)
+                body.angular_velocity = omega
+            return
+        # Every body of the space is written: read them, replace the players' rows.
+        buf = self._batch
+        buf.clear()
+        _batch.get_space_bodies(self.space, self._vel_fields, buf)
+        values = np.frombuffer(buf.float_buf(), dtype=float).reshape(-1, 3).copy()
+        values[:self.n_players] = world_velocity
+        self._batch_set.set_float_buf(values)
+        _batch.set_space_bodies(self.space, self._vel_fields, self._batch_set)
 
     def _roll_ball(self, dt: float) -> None:
         vx, vy = self.ball.velocity
