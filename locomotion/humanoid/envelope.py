@@ -218,6 +218,12 @@ def envelope_to_profile(
     lo, hi = list(params["command_low"]["value"]), list(params["command_high"]["value"])
     params["command_low"]["value"] = [min(lo[k], min(c for c, _ in curves[k])) for k in range(3)]
     params["command_high"]["value"] = [max(hi[k], max(c for c, _ in curves[k])) for k in range(3)]
+    for key in ("command_low", "command_high"):
+        params[key]["source"] = (
+            f"as {base['name']} (the command space; commands beyond the tracking curve "
+            "saturate in the 2D model, while the walker itself fell there: see "
+            "measurements.walk_envelope_mujoco)"
+        )
     meas = dict(prof.get("measurements", {}))
     meas["walk_envelope_mujoco"] = {
         "written": written,
