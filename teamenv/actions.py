@@ -35,6 +35,9 @@ class ActionParser:
         self.kick_high = np.array([1.0, math.pi])
         self.beam_low = np.array([-field.half_length, -field.half_width, -math.pi])
         self.beam_high = np.array([0.0, field.half_width, math.pi])
+        # Tolerant bounds of the fast path (NaN and inf fail them too).
+        self._walk_lo, self._walk_hi = self.walk_low - 1e-6, self.walk_high + 1e-6
+        self._kick_lo, self._kick_hi = self.kick_low - 1e-6, self.kick_high + 1e-6
         self.channel = channel
         self.action_format = action_format
         self.strict = strict
@@ -54,9 +57,10 @@ class ActionParser:
     def _fill_dict_fast(self, cmd: Commands, rows: list[int], actions: list[Any]) -> bool:
         """Vectorized path for the common case (only valid walk/kick/say keys). Returns False,
         touching nothing, when anything is unusual; the per-agent path then names the fault."""
-        walk_rows, walks, kick_rows, kicks = [], [], [], []
+        walk_rows, walks, kick_rows, kicks, says = [], [], [], [], []
+        fast_keys = _FAST_KEYS
         for row, action in zip(rows, actions):
-            if type(action) is not dict or not _FAST_KEYS.issuperset(action):
+            if type(action) is not dict or not fast_keys.issuperset(action):
                 return False
             if "walk" in action:
                 walk_rows.append(row)
@@ -64,20 +68,21 @@ class ActionParser:
             if "kick" in action:
                 kick_rows.append(row)
                 kicks.append(action["kick"])
+            text = action.get("say")
+            if text:
+                says.append((row, text))
         try:
             walk = np.asarray(walks, dtype=float).reshape(len(walks), 3)
             kick = np.asarray(kicks, dtype=float).reshape(len(kicks), 2)
         except (TypeError, ValueError):
             return False
-        if not (np.isfinite(walk).all() and np.isfinite(kick).all()):
+        # In range (with the 1e-6 tolerance) also means finite: NaN fails both comparisons.
+        if walks and not ((walk >= self._walk_lo) & (walk <= self._walk_hi)).all():
             return False
-        if ((walk < self.walk_low - 1e-6) | (walk > self.walk_high + 1e-6)).any() or \
-                ((kick < self.kick_low - 1e-6) | (kick > self.kick_high + 1e-6)).any():
+        if kicks and not ((kick >= self._kick_lo) & (kick <= self._kick_hi)).all():
             return False
-        says = [(row, action["say"]) for row, action in zip(rows, actions)
-                if action.get("say")]
-        if any(not isinstance(text, str) or self.channel.check_message(text) is not None
-               for _, text in says):
+        if says and any(not isinstance(text, str) or self.channel.check_message(text) is not None
+                        for _, text in says):
             return False
         if walk_rows:
             cmd.walk[walk_rows] = walk

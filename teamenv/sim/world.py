@@ -45,6 +45,7 @@ class World:
         self._add_static_geometry()
         self.players: list[pymunk.Body] = []
         self._player_index: dict[pymunk.Body, int] = {}
+        self._shape_index: dict[pymunk.Shape, int] = {}
         for i in range(n_players):
             body = pymunk.Body(player_mass, float("inf"))
             shape = pymunk.Circle(body, player_radius)
@@ -54,6 +55,7 @@ class World:
             self.space.add(body, shape)
             self.players.append(body)
             self._player_index[body] = i
+            self._shape_index[shape] = i
         self.ball = pymunk.Body(physics.ball_mass, pymunk.moment_for_circle(
             physics.ball_mass, 0.0, physics.ball_radius))
         ball_shape = pymunk.Circle(self.ball, physics.ball_radius)
@@ -62,6 +64,7 @@ class World:
         ball_shape.friction = 0.2
         self.space.add(self.ball, ball_shape)
         self.impacts = np.zeros(n_players)
+        self._impacts = [0.0] * n_players  # collision callbacks' running sums (see step)
         self.touches: list[int] = []  # player indices that touched the ball this cycle
         self.space.on_collision(PLAYER, PLAYER, post_solve=self._on_player_impact)
         self.space.on_collision(PLAYER, POST, post_solve=self._on_player_impact)
@@ -124,14 +127,15 @@ class World:
     # -- collision callbacks ---------------------------------------------------------------
     def _on_player_impact(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data: object) -> None:
         impulse = arbiter.total_impulse.length
+        index_of, impacts = self._shape_index, self._impacts
         for shape in arbiter.shapes:
-            index = self._player_index.get(shape.body)
+            index = index_of.get(shape)
             if index is not None:
-                self.impacts[index] += impulse
+                impacts[index] += impulse
 
     def _on_ball_touch(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data: object) -> None:
         for shape in arbiter.shapes:
-            index = self._player_index.get(shape.body)
+            index = self._shape_index.get(shape)
             if index is not None and (not self.touches or self.touches[-1] != index):
                 self.touches.append(index)
 
@@ -202,7 +206,9 @@ class World:
     def step(self, world_velocity: np.ndarray) -> None:
         """Advance one cycle; players move with ``world_velocity`` (n, 3): vx, vy, omega."""
         dt = self.physics.cycle_s
-        self.impacts[:] = 0.0
+        # Collision callbacks add to a list of floats (same additions, same order), copied
+        # into ``impacts`` after the step.
+        self._impacts = [0.0] * self.n_players
         self.touches.clear()
         self._invalidate()
         self._set_player_velocities(world_velocity)
@@ -211,6 +217,7 @@ class World:
         h = dt / substeps
         for _ in range(substeps):
             self.space.step(h)
+        self.impacts[:] = self._impacts
         self._invalidate()
         self._roll_ball(dt)
 
