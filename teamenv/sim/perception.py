@@ -47,6 +47,9 @@ class StatePerception:
         self._o_game = self._o_mode + N_PLAY_MODES
         self._o_heard = self._o_game + GAME_DIM
         self._width = self._o_heard + heard_slots * HEARD_DIM
+        # Parts that change only with the attack directions, play mode, half or score.
+        self._sign_key: tuple | None = None
+        self._block_key: tuple | None = None
 
     def observe(
         self, poses: np.ndarray, velocities: np.ndarray, ball: np.ndarray, fallen: np.ndarray,
@@ -61,15 +64,18 @@ class StatePerception:
         n, size = len(poses), self.team_size
         team_of = self.team_of
         rows = np.empty((n, self._width))
-        sign = np.asarray(attack_sign, dtype=float)[team_of]  # (n,)
+        key = tuple(attack_sign)
+        if key != self._sign_key:
+            sign = np.asarray(attack_sign, dtype=float)[team_of]  # (n,)
+            self._sign, self._sign2, self._sign_pos = sign, sign[:, None], sign > 0
+            self._sign_key = key
+        sign2 = self._sign2
         x, y, h = poses[:, 0], poses[:, 1], poses[:, 2]
         cos_h, sin_h = np.cos(h), np.sin(h)
 
-        rows[:, 0] = sign * x
-        rows[:, 1] = sign * y
-        rows[:, 2] = np.where(sign > 0, h, _wrap(h + np.pi))
-        rows[:, 3] = sign * velocities[:, 0]
-        rows[:, 4] = sign * velocities[:, 1]
+        rows[:, 0:2] = sign2 * poses[:, :2]
+        rows[:, 2] = np.where(self._sign_pos, h, _wrap(h + np.pi))
+        rows[:, 3:5] = sign2 * velocities[:, :2]
         rows[:, 5] = velocities[:, 2]
         rows[:, 6] = fallen
 
@@ -92,22 +98,28 @@ class StatePerception:
         rel[:, :, 3] = fallen[cols]
         rel[:, :, 4] = 1.0
 
+        # Play-mode one-hot, half and scores: rebuilt only when one of them changes.
         modes = (int(mode), int(mode.for_team(1)))
-        rows[:, self._o_mode:self._o_game] = 0.0
-        rows[self._rows, self._o_mode + np.take(modes, team_of)] = 1.0
-        o = self._o_game
-        own_score = np.asarray(score, dtype=float)
-        rows[:, o] = time_s
-        rows[:, o + 1] = half
-        rows[:, o + 2] = own_score[team_of]
-        rows[:, o + 3] = own_score[1 - team_of]
+        key = (modes, half, tuple(score))
+        if key != self._block_key:
+            block = np.zeros((n, self._o_heard - self._o_mode))
+            block[self._rows, np.take(modes, team_of)] = 1.0
+            g = self._o_game - self._o_mode
+            own_score = np.asarray(score, dtype=float)
+            block[:, g + 1] = half
+            block[:, g + 2] = own_score[team_of]
+            block[:, g + 3] = own_score[1 - team_of]
+            self._block, self._block_key = block, key
+            self._team_modes = [modes[t] for t in self._team_list]
+        rows[:, self._o_mode:self._o_heard] = self._block
+        rows[:, self._o_game] = time_s
         rows[:, self._o_heard:] = heard_info.reshape(n, -1)
 
         out = rows.astype(np.float32)
         if flat:
             return list(out)
         players = out[:, self._o_players:self._o_mode].reshape(n, n, PLAYER_DIM)
-        team_modes = [modes[t] for t in self._team_list]
+        team_modes = self._team_modes
         return [
             {"self": me, "ball": b, "teammates": mates, "opponents": opps, "play_mode": pm,
              "game": g, "heard_text": texts, "heard": heard}
