@@ -1,0 +1,85 @@
+"""Motion behaviours: walk to a point around other players, hold a position, face the ball,
+beam, and keep out of a circle (the referee's distance at the other side's set plays)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from strategy.behaviours.skills import Skills
+from strategy.control import ControlRequest
+from strategy.navigation import walk_command, wrap
+from strategy.worldmodel import WorldModel
+
+
+def go_to(wm: WorldModel, target: ArrayLike, skills: Skills, face: ArrayLike | None = None,
+          speed: float | None = None, avoid: bool = True,
+          behaviour: str = "go_to") -> ControlRequest:
+    """Walk to ``target`` (team frame), around the other players when ``avoid`` (potential
+    field), turning to face ``face`` near the target."""
+    obstacles = wm.obstacles() if avoid else np.zeros((0, 2))
+    walk = walk_command(wm.position, wm.heading, target, obstacles, skills.navigation,
+                        face=face, speed=speed)
+    return ControlRequest(walk=walk, behaviour=behaviour)
+
+
+def face_ball(wm: WorldModel, skills: Skills) -> ControlRequest:
+    """Stand and turn towards the ball."""
+    error = wrap(math.atan2(wm.ball[1] - wm.position[1], wm.ball[0] - wm.position[0])
+                 - wm.heading)
+    return ControlRequest(walk=np.array([0.0, 0.0, skills.navigation.turn_gain * error]),
+                          behaviour="face_ball")
+
+
+def hold_position(wm: WorldModel, target: ArrayLike, skills: Skills,
+                  behaviour: str = "hold_position") -> ControlRequest:
+    """Go to a formation (or marking) position and face the ball there."""
+    t = np.asarray(target, dtype=np.float64)
+    if wm.distance(t) < skills.navigation.arrive_m * 2:
+        request = face_ball(wm, skills)
+        return ControlRequest(walk=request.walk, behaviour=behaviour)
+    return go_to(wm, t, skills, face=wm.ball, behaviour=behaviour)
+
+
+def beam_to(pose: ArrayLike) -> ControlRequest:
+    """Ask to be beamed to ``pose`` = (x, y, rotation) in the team frame (own half)."""
+    x, y, rot = (float(v) for v in pose)
+    return ControlRequest(beam=(x, y, rot), behaviour="beam")
+
+
+def keep_clear(target: ArrayLike, center: ArrayLike, radius: float) -> NDArray[np.float64]:
+    """``target`` moved radially out of the circle (``center``, ``radius``) if inside it."""
+    t = np.asarray(target, dtype=np.float64)
+    c = np.asarray(center, dtype=np.float64)
+    d = t - c
+    dist = math.hypot(d[0], d[1])
+    if dist >= radius:
+        return t
+    if dist < 1e-9:
+        d, dist = np.array([-1.0, 0.0]), 1.0  # exactly on the spot: towards our goal
+    return c + d * (radius / dist)
+
+
+def detour(position: ArrayLike, target: ArrayLike, center: ArrayLike,
+           radius: float) -> NDArray[np.float64]:
+    """A waypoint that takes a walk from ``position`` to ``target`` around the circle
+    (``center``, ``radius``): ``target`` itself when the straight path does not enter it."""
+    p = np.asarray(position, dtype=np.float64)
+    t = np.asarray(target, dtype=np.float64)
+    c = np.asarray(center, dtype=np.float64)
+    seg = t - p
+    length2 = float(seg @ seg)
+    if length2 < 1e-12:
+        return keep_clear(t, c, radius)
+    s = min(1.0, max(0.0, float((c - p) @ seg) / length2))
+    closest = p + s * seg
+    gap = closest - c
+    dist = math.hypot(gap[0], gap[1])
+    if dist >= radius:
+        return t
+    if dist < 1e-9:  # straight through the centre: go round on the left of the path
+        gap = np.array([-seg[1], seg[0]])
+        dist = math.hypot(gap[0], gap[1])
+    return c + gap * ((radius + 0.3) / dist)

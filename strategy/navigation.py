@@ -1,0 +1,159 @@
+"""Potential-field navigation (ITAndroids TDP 2016, seed 001 eq. 6-10) and walk commands.
+
+Every object on the pitch puts a potential at the walker's position ``p``:
+
+* the target attracts, ``V = k_att / d`` with ``k_att > 0`` (eq. 7);
+* each obstacle (another player) repels, ``V = k_rep / d**3`` with ``k_rep < 0`` (eq. 6);
+
+where ``d`` is the distance between the object and ``p``. Each potential is split along the
+unit vector from ``p`` to the object (eq. 8-9: ``V_x = (x0 - x) / d * V``; with the sign
+convention above an attractive potential points at its object and a repulsive one away from
+it), the components are summed over all objects, and the walking direction is
+``theta = atan2(V_y, V_x)`` (eq. 10). Obstacles farther than ``influence_m`` (or beyond the
+target) are ignored, so open ground is crossed in a straight line.
+
+``walk_command`` turns a direction and a distance into a body-frame (vx, vy, vturn) command for
+a humanoid: it walks forward and turns, side-steps only near the target, and turns on the
+spot when the direction is far behind it (a real walk cannot go fast sideways or backwards).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from teamenv.errors import ConfigError
+
+
+@dataclass(frozen=True)
+class NavigationParams:
+    """Gains of the potential field and of the walk controller.
+
+    Attributes:
+        k_attract: attraction constant of the target (eq. 7), > 0.
+        k_repulse: repulsion constant of an obstacle (eq. 6), < 0 (m^2 relative to k_attract).
+        influence_m: obstacles farther than this from the walker are ignored, metres.
+        max_speed: forward speed asked for far from the target, m/s.
+        slow_down_m: the speed falls linearly to 0 within this distance of the target, metres.
+        arrive_m: closer than this the walker stands (only turns to face), metres.
+        turn_gain: vturn = turn_gain * heading error, 1/s.
+        turn_in_place_rad: a heading error above this turns on the spot first, radians.
+        omni_m: within this distance of the target the walker side-steps and walks backwards
+            instead of turning towards the target (a humanoid side-steps slowly), metres.
+        min_speed: the slowest approach asked for outside ``arrive_m`` (the walk tracks very
+            small commands poorly), m/s.
+    """
+
+    k_attract: float = 1.0
+    k_repulse: float = -0.35
+    influence_m: float = 1.6
+    max_speed: float = 1.2
+    slow_down_m: float = 0.8
+    arrive_m: float = 0.08
+    turn_gain: float = 2.0
+    turn_in_place_rad: float = 1.2
+    omni_m: float = 0.4
+    min_speed: float = 0.35
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.k_attract) and self.k_attract > 0):
+            raise ConfigError(f"NavigationParams.k_attract: must be > 0 (eq. 7), "
+                              f"got {self.k_attract!r}")
+        if not (math.isfinite(self.k_repulse) and self.k_repulse < 0):
+            raise ConfigError(f"NavigationParams.k_repulse: must be < 0 (eq. 6), "
+                              f"got {self.k_repulse!r}")
+        for name in ("influence_m", "max_speed", "slow_down_m", "arrive_m", "turn_gain",
+                     "turn_in_place_rad", "omni_m", "min_speed"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
+                raise ConfigError(f"NavigationParams.{name}: must be a finite number >= 0, "
+                                  f"got {value!r}")
+
+
+def field_vector(position: ArrayLike, target: ArrayLike, obstacles: ArrayLike,
+                 params: NavigationParams) -> NDArray[np.float64]:
+    """The summed potential vector (V_x, V_y) at ``position`` (eq. 6-9), team frame.
+
+    Args:
+        position: (2,) the walker, metres.
+        target: (2,) where it wants to go, metres.
+        obstacles: (M, 2) positions of the players to walk around, metres (M may be 0).
+        params: the gains.
+    """
+    p = np.asarray(position, dtype=np.float64)
+    t = np.asarray(target, dtype=np.float64)
+    to_target = t - p
+    d_target = math.hypot(to_target[0], to_target[1])
+    if d_target < 1e-9:
+        return np.zeros(2)
+    # eq. 7 and 8-9: k/d along the unit vector to the target
+    vector = to_target * (params.k_attract / d_target / d_target)
+    obs = np.asarray(obstacles, dtype=np.float64).reshape(-1, 2)
+    if len(obs):
+        rel = obs - p
+        d = np.sqrt(rel[:, 0] * rel[:, 0] + rel[:, 1] * rel[:, 1])
+        near = (d < params.influence_m) & (d > 1e-6) & (d < d_target + 0.3)
+        if near.any():
+            dn = d[near]
+            # eq. 6 and 8-9: k/d^3 (k < 0) along the unit vector to the obstacle = away from it
+            vector = vector + ((params.k_repulse / dn**4)[:, None] * rel[near]).sum(axis=0)
+    return vector
+
+
+def direction_to(position: ArrayLike, target: ArrayLike, obstacles: ArrayLike,
+                 params: NavigationParams) -> float:
+    """The walking direction theta (eq. 10), radians in the team frame."""
+    v = field_vector(position, target, obstacles, params)
+    if not v.any():
+        t = np.asarray(target, dtype=np.float64) - np.asarray(position, dtype=np.float64)
+        return math.atan2(t[1], t[0])
+    return math.atan2(v[1], v[0])
+
+
+def wrap(angle: float) -> float:
+    """``angle`` wrapped to [-pi, pi)."""
+    return (angle + math.pi) % (2.0 * math.pi) - math.pi
+
+
+def walk_command(position: ArrayLike, heading: float, target: ArrayLike,
+                 obstacles: ArrayLike, params: NavigationParams,
+                 face: ArrayLike | None = None, speed: float | None = None) -> NDArray[np.float64]:
+    """Body-frame walk command (vx, vy, vturn) towards ``target`` around ``obstacles``.
+
+    Far from the target the walker follows the potential field's direction, walking forward
+    and turning; within ``params.omni_m`` it walks straight at the target in any direction
+    while turning to face ``face`` (a point; default: keep walking heading). The caller clips
+    the result to the command range.
+    """
+    p = np.asarray(position, dtype=np.float64)
+    t = np.asarray(target, dtype=np.float64)
+    dx, dy = t[0] - p[0], t[1] - p[1]
+    dist = math.hypot(dx, dy)
+    top = params.max_speed if speed is None else speed
+    face_angle = None
+    if face is not None:
+        f = np.asarray(face, dtype=np.float64)
+        fx, fy = f[0] - p[0], f[1] - p[1]
+        if fx * fx + fy * fy > 0.0025:
+            face_angle = math.atan2(fy, fx)
+    if dist < params.arrive_m:
+        turn = 0.0 if face_angle is None else wrap(face_angle - heading)
+        return np.array([0.0, 0.0, params.turn_gain * turn])
+    v = max(min(top, params.min_speed), top * min(1.0, dist / max(params.slow_down_m, 1e-9)))
+    c, s = math.cos(heading), math.sin(heading)
+    if dist < params.omni_m:
+        local_x, local_y = c * dx + s * dy, -s * dx + c * dy
+        turn = 0.0 if face_angle is None else wrap(face_angle - heading)
+        return np.array([v * local_x / dist, v * local_y / dist, params.turn_gain * turn])
+    theta = direction_to(p, t, obstacles, params)
+    error = wrap(theta - heading)
+    turn = params.turn_gain * error
+    if abs(error) > params.turn_in_place_rad:
+        return np.array([0.0, 0.0, turn])
+    # Forward speed falls off with the heading error (cos), a little side-step helps.
+    forward = v * max(0.0, math.cos(error))
+    side = v * math.sin(error) * 0.3
+    return np.array([forward, side, turn])

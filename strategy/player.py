@@ -1,0 +1,103 @@
+"""One agent of a team, layer by layer (seed 000 §2): perception -> world model -> decision
+maker -> behaviours -> control requests.
+
+``Player.act`` takes only this agent's own observation (and the texts it heard, which are part
+of it) and returns its action; a team is a dict of independent ``Player`` objects.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+from strategy.behaviours.skills import Skills
+from strategy.control import ControlRequest
+from strategy.decision import FieldPlayerDecisionMaker, GoalieDecisionMaker
+from strategy.formation.model import Formation
+from strategy.positioning import PositioningAgent
+from strategy.setplays import Situation, situation, we_kick_off_next
+from strategy.teams.full_config import FullTeamConfig
+from strategy.worldmodel import WorldModel
+
+
+class Player:
+    """The brain of agent ``name`` (player index ``me``).
+
+    Args:
+        me: player index (uniform number - 1).
+        name: the agent's name (for error messages).
+        side: "left" or "right" (who kicks off a half depends on it).
+        config: the team's parameters.
+        formations: one formation per situation key of ``FullTeamConfig`` (``attack``,
+            ``defend``, ``kickoff-ours``, ``kickoff-theirs``, ``setplay-ours``,
+            ``setplay-theirs``), all of the team's size.
+        skills: body facts and navigation gains.
+        channel: the say channel profile name.
+    """
+
+    def __init__(self, me: int, name: str, side: str, config: FullTeamConfig,
+                 formations: Mapping[str, Formation], skills: Skills, channel: str) -> None:
+        self.me, self.name, self.side = me, name, side
+        self.config = config
+        self.formations = dict(formations)
+        self.skills = skills
+        defend = self.formations["defend"]
+        self.positioning = PositioningAgent(
+            me, defend, skills.field, marking=config.marking_params(), channel=channel,
+            say_every=config.say_every)
+        goalie = defend.goalie_index
+        if goalie is not None and me == goalie:
+            self.decision: FieldPlayerDecisionMaker | GoalieDecisionMaker = \
+                GoalieDecisionMaker(config, skills, goalie)
+        else:
+            self.decision = FieldPlayerDecisionMaker(config, skills, goalie)
+        self.last_request = ControlRequest()
+
+    def reset(self) -> None:
+        self.positioning.reset()
+        self.decision.reset()
+        self.last_request = ControlRequest()
+
+    def perceive(self, obs: Mapping[str, Any]) -> WorldModel:
+        return WorldModel.from_observation(obs, self.me, self.skills.field, self.name)
+
+    def formation_for(self, wm: WorldModel) -> Formation:
+        """The formation the situation calls for."""
+        now = situation(wm.play_mode)
+        if now is Situation.BEAM:
+            ours = we_kick_off_next(wm.play_mode, wm.half, self.side)
+            return self.formations["kickoff-ours" if ours else "kickoff-theirs"]
+        if now is Situation.OUR_KICKOFF:
+            return self.formations["kickoff-ours"]
+        if now is Situation.THEIR_KICKOFF:
+            return self.formations["kickoff-theirs"]
+        if now is Situation.OUR_SET_PLAY:
+            return self.formations["setplay-ours"]
+        if now is Situation.THEIR_SET_PLAY:
+            return self.formations["setplay-theirs"]
+        if self.config.switch_formations and _we_control_ball(wm):
+            return self.formations["attack"]
+        return self.formations["defend"]
+
+    def act(self, obs: Mapping[str, Any]) -> ControlRequest:
+        """This cycle's control request, from this agent's observation alone."""
+        wm = self.perceive(obs)
+        heard = wm.heard if self.config.communicate else ()
+        decision = self.positioning.step(wm.positioning_view(), heard, self.formation_for(wm))
+        request = self.decision.decide(wm, decision)
+        if self.config.communicate and decision.say:
+            request = request.with_say(decision.say)
+        self.last_request = request
+        return request
+
+
+def _we_control_ball(wm: WorldModel) -> bool:
+    """Our closest upright player is nearer the ball than theirs (or the ball is in their half
+    and nobody of theirs is close)."""
+    ours = wm.teammates_present & ~wm.teammates_fallen
+    theirs = wm.opponents_present & ~wm.opponents_fallen
+    d_ours = np.hypot(*(wm.teammates[ours] - wm.ball).T).min() if ours.any() else np.inf
+    d_theirs = np.hypot(*(wm.opponents[theirs] - wm.ball).T).min() if theirs.any() else np.inf
+    return bool(d_ours < d_theirs - 0.3 or (wm.ball[0] > 0 and d_theirs > 3.0))

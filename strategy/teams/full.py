@@ -1,0 +1,61 @@
+"""The full team: formations, role voting over the say channel, marking, set plays, passing,
+a goalie — eleven (or N) independent agents, each deciding from its own observation.
+
+A template for a serious team: copy this file, change ``FullTeamConfig`` (or the decision
+makers in ``strategy.decision``), and register your class as a ``teamenv.teams`` entry point.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+from strategy.behaviours.skills import Skills
+from strategy.formation.sized import team_formation
+from strategy.player import Player
+from strategy.teams.full_config import FullTeamConfig
+from teamenv.errors import ConfigError
+from teamenv.teams import TeamContext
+
+FORMATION_KEYS = {
+    "attack": "formation_attack", "defend": "formation_defend",
+    "kickoff-ours": "formation_kickoff_ours", "kickoff-theirs": "formation_kickoff_theirs",
+    "setplay-ours": "formation_setplay_ours", "setplay-theirs": "formation_setplay_theirs",
+}
+
+
+class FullTeam:
+    """The complete built-in team. Config keys: the fields of ``FullTeamConfig``."""
+
+    name = "full"
+    defaults: Mapping[str, Any] = {}
+
+    def __init__(self, context: TeamContext, **config: Any) -> None:
+        if context.observation_mode != "state":
+            raise ConfigError(f"{self.name} team: needs observation mode 'state' (its world "
+                              f"model reads true positions), got {context.observation_mode!r}")
+        self.context = context
+        self.config = FullTeamConfig.from_overrides(self.name, {**self.defaults, **config})
+        self.low = np.asarray(context.walk_low, dtype=np.float64)
+        self.high = np.asarray(context.walk_high, dtype=np.float64)
+        self.skills = Skills(context.field, self.low, self.high, kick_reach=context.kick_reach,
+                             navigation=self.config.navigation_params())
+        formations = {kind: team_formation(getattr(self.config, key), context.team_size,
+                                           context.field)
+                      for kind, key in FORMATION_KEYS.items()}
+        self.players = {
+            agent: Player(k, agent, context.side, self.config, formations, self.skills,
+                          context.channel)
+            for k, agent in enumerate(context.agents)
+        }
+
+    def reset(self, seed: int) -> None:
+        del seed  # the team's decisions are deterministic
+        for player in self.players.values():
+            player.reset()
+
+    def act(self, observations: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[str, Any]]:
+        return {agent: self.players[agent].act(obs).to_action(self.low, self.high)
+                for agent, obs in observations.items()}

@@ -1,0 +1,135 @@
+"""The full team's parameters: one frozen dataclass, so tournaments and optimizers can vary them.
+
+Every field can be given as a team config key (``teamenv match full chaser --left-config
+'{"shoot_range_m": 6}'``, or ``full:shoot_range_m=6`` in a tournament spec). Unknown keys and
+bad values are errors that name the field and the value.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+
+from strategy.formation.builtin import builtin_formation_names
+from strategy.formation.sized import KINDS
+from strategy.marking import MarkingParams
+from strategy.navigation import NavigationParams
+from teamenv.errors import ConfigError
+
+
+@dataclass(frozen=True)
+class FullTeamConfig:
+    """Parameters of the full team (metres, m/s, cycles).
+
+    Formations (a kind from ``strategy.formation.sized.KINDS`` = the built-in of the team's
+    size, or a built-in formation name):
+        formation_attack, formation_defend: in play, when we control the ball / when not.
+        formation_kickoff_ours, formation_kickoff_theirs, formation_setplay_ours,
+        formation_setplay_theirs: at kick-offs and the other set plays.
+        switch_formations: False = always ``formation_defend`` in play.
+    Marking (``strategy.marking``, seed 000 §5.4):
+        marking: mark dangerous opponents. mark_shoot_range_m, mark_min_ball_distance_m,
+        mark_max_behind_ball_m, mark_distance_m, max_markers: its thresholds.
+    Playing the ball:
+        shoot_range_m: shoot when the ball is this close to the opponents' goal.
+        advance_kick_clearance_m: with no opponent this close to the ball, kick it far
+            towards their goal instead of dribbling (0 = never; a kick takes the body 1.5 s).
+        pass_min_gain_m: pass only to a teammate this much closer to their goal than the ball.
+        pass_max_m: longest pass. pass_lane_m: no opponent this close to the pass line.
+        receiver_free_m: no opponent this close to the receiver.
+        pressure_m: an opponent this close to the ball puts the ball player under pressure
+            (then it passes, clears or kicks long instead of dribbling).
+        clear_zone_m: under pressure within this distance of our goal line, clear the ball.
+        dribble_speed: walking speed while pushing the ball, m/s.
+        ball_player_hysteresis_m: the current ball player keeps the ball unless a teammate
+            is this much closer (stops two players swapping every cycle).
+    Goalie:
+        goalie_line_m: stands this far in front of the goal line.
+        goalie_clear_m: goes out to clear a ball this close to the goal centre.
+    Set plays:
+        set_play_clearance_m: distance kept from the ball at the other side's set plays
+            (the league's rule is 2 m).
+    Communication:
+        communicate: say the role vector and vote with the heard ones (False: each agent
+            follows its own role vector; the "silent" team).
+        say_every: say every this many cycles (staggered by uniform number).
+    Navigation (seed 001 eq. 6-10): nav_k_repulse (< 0), nav_influence_m, nav_max_speed.
+    """
+
+    formation_attack: str = "attack"
+    formation_defend: str = "defend"
+    formation_kickoff_ours: str = "kickoff-ours"
+    formation_kickoff_theirs: str = "kickoff-theirs"
+    formation_setplay_ours: str = "setplay-ours"
+    formation_setplay_theirs: str = "setplay-theirs"
+    switch_formations: bool = True
+    marking: bool = True
+    mark_shoot_range_m: float = 9.0
+    mark_min_ball_distance_m: float = 2.0
+    mark_max_behind_ball_m: float = 3.0
+    mark_distance_m: float = 1.5
+    max_markers: int = 2
+    shoot_range_m: float = 9.0
+    advance_kick_clearance_m: float = 2.5
+    pass_min_gain_m: float = 3.0
+    pass_max_m: float = 9.0
+    pass_lane_m: float = 1.0
+    receiver_free_m: float = 1.5
+    pressure_m: float = 2.0
+    clear_zone_m: float = 6.0
+    dribble_speed: float = 0.9
+    ball_player_hysteresis_m: float = 0.5
+    goalie_line_m: float = 0.5
+    goalie_clear_m: float = 3.5
+    set_play_clearance_m: float = 2.6
+    communicate: bool = True
+    say_every: int = 1
+    nav_k_repulse: float = -0.35
+    nav_influence_m: float = 1.6
+    nav_max_speed: float = 1.2
+
+    def __post_init__(self) -> None:
+        names = set(KINDS) | set(builtin_formation_names())
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if f.name.startswith("formation_"):
+                if value not in names:
+                    raise ConfigError(f"full team config: {f.name}={value!r} is not a formation "
+                                      f"kind {KINDS} or a built-in formation name")
+            elif f.type in ("bool", bool):
+                if not isinstance(value, bool):
+                    raise ConfigError(f"full team config: {f.name} must be true or false, "
+                                      f"got {value!r}")
+            elif f.type in ("int", int):
+                if isinstance(value, bool) or not isinstance(value, int) or value < (
+                        1 if f.name == "say_every" else 0):
+                    raise ConfigError(f"full team config: {f.name} must be an integer >= "
+                                      f"{1 if f.name == 'say_every' else 0}, got {value!r}")
+            elif f.name == "nav_k_repulse":
+                if not (isinstance(value, (int, float)) and math.isfinite(value) and value < 0):
+                    raise ConfigError(f"full team config: nav_k_repulse must be < 0 (a "
+                                      f"repulsive potential, eq. 6), got {value!r}")
+            elif isinstance(value, bool) or not isinstance(value, (int, float)) or \
+                    not math.isfinite(value) or value < 0:
+                raise ConfigError(f"full team config: {f.name} must be a finite number >= 0, "
+                                  f"got {value!r}")
+
+    @classmethod
+    def from_overrides(cls, team: str, overrides: dict) -> FullTeamConfig:
+        """The defaults with ``overrides`` applied; an unknown key names the known ones."""
+        known = {f.name for f in fields(cls)}
+        unknown = sorted(set(overrides) - known)
+        if unknown:
+            raise ConfigError(f"{team} team config: unknown key(s) {unknown}; known keys are "
+                              f"{sorted(known)}")
+        return cls(**overrides)
+
+    def marking_params(self) -> MarkingParams | None:
+        if not self.marking:
+            return None
+        return MarkingParams(self.mark_shoot_range_m, self.mark_min_ball_distance_m,
+                             self.mark_max_behind_ball_m, self.mark_distance_m, self.max_markers)
+
+    def navigation_params(self) -> NavigationParams:
+        return NavigationParams(k_repulse=self.nav_k_repulse, influence_m=self.nav_influence_m,
+                                max_speed=self.nav_max_speed)
