@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
+from itertools import chain
 from typing import Sequence
 
 import numpy as np
@@ -61,9 +62,7 @@ class CycleReport:
         return [] if self.delivery is None else self.delivery.dropped
 
 
-def _slot_rank(msg: comms.Heard) -> int:
-    """Heard-slot order: own message, then teammates', then opponents' (stable)."""
-    return 0 if msg.is_self else (1 if msg.teammate else 2)
+_tuple_new = tuple.__new__  # builds a NamedTuple from a tuple without its Python __new__
 
 
 class Simulation:
@@ -115,6 +114,7 @@ class Simulation:
         # What each listener heard this cycle, in slot order (0 self, 1 teammate, 2 opponent
         # for simspark): texts per listener and (n, K, 4) present, self, teammate, direction.
         self._no_texts = ("",) * self.heard_slots
+        self._listener_ids = np.arange(self.n)
         self._heard_texts = [self._no_texts] * self.n
         self._heard_info = np.zeros((self.n, self.heard_slots, HEARD_DIM))
         self._heard_any = False
@@ -200,43 +200,46 @@ class Simulation:
     def _deliver(self, say: Sequence[str], report: CycleReport) -> None:
         """Hand this cycle's messages to the channel (every cycle: hearing capacities refill
         there) and fill each listener's heard slots: own message first, then teammates', then
-        opponents'."""
-        utterances = [comms.Utterance(i, text) for i, text in enumerate(say) if text]
+        opponents' (stable, so each class keeps the channel's order)."""
+        new, utterance = _tuple_new, comms.Utterance
+        utterances = [new(utterance, (i, text, 100.0)) for i, text in enumerate(say) if text]
         if self._heard_any:
             self._heard_texts = [self._no_texts] * self.n
             self._heard_info.fill(0.0)
             self._heard_any = False
         poses = self.world.player_poses()
         delivery = self.channel.deliver(utterances, poses[:, :2], poses[:, 2], self.rng)
-        report.heard = delivery.heard
+        report.heard = heard = delivery.heard
         if not utterances:
             return
         report.delivery = delivery
-        n_slots = self.heard_slots
-        texts = self._heard_texts
-        pad = self._no_texts
-        listeners: list[int] = []
-        slots: list[int] = []
-        messages: list[comms.Heard] = []
-        for listener, heard in enumerate(delivery.heard):
-            if not heard:
-                continue
-            if len(heard) > 1:
-                heard = sorted(heard, key=_slot_rank)
-                if len(heard) > n_slots:
-                    heard = heard[:n_slots]
-            k = len(heard)
-            texts[listener] = tuple([msg.text for msg in heard]) + pad[k:]
-            messages.extend(heard)
-            listeners.extend([listener] * k)
-            slots.extend(range(k))
-        if messages:
-            _, _, direction, is_self, teammate = zip(*messages)
-            rows = np.array((is_self, teammate, direction), dtype=float)
-            info = self._heard_info
-            info[listeners, slots, 0] = 1.0
-            info[listeners, slots, 1:] = rows.T
-            self._heard_any = True
+        counts = list(map(len, heard))
+        total = sum(counts)
+        if not total:
+            return
+        # All (listener, message) pairs at once: sort by listener, then slot class (stable).
+        _, texts, direction, is_self, teammate = zip(*chain.from_iterable(heard))
+        listener = np.repeat(self._listener_ids, counts)
+        is_self_a = np.array(is_self, dtype=bool)
+        mate_a = np.array(teammate, dtype=bool)
+        rank = np.where(is_self_a, 0, np.where(mate_a, 1, 2))
+        order = np.lexsort((rank, listener))
+        listener = listener[order]
+        start = np.cumsum(counts) - counts
+        slot = np.arange(total) - start[listener]
+        keep = order[slot < self.heard_slots]
+        if keep.size < total:
+            listener = listener[slot < self.heard_slots]
+            slot = slot[slot < self.heard_slots]
+        info = self._heard_info
+        info[listener, slot, 0] = 1.0
+        info[listener, slot, 1] = is_self_a[keep]
+        info[listener, slot, 2] = mate_a[keep]
+        info[listener, slot, 3] = np.array(direction, dtype=float)[keep]
+        table = np.full((self.n, self.heard_slots), "", dtype=object)
+        table[listener, slot] = np.array(texts, dtype=object)[keep]
+        self._heard_texts = list(map(tuple, table.tolist()))
+        self._heard_any = True
 
     # -- observations ----------------------------------------------------------------------
     def fallen(self) -> np.ndarray:
