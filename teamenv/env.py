@@ -294,7 +294,8 @@ class SoccerParallelEnv(ParallelEnv):
         if not isinstance(actions, Mapping):
             raise ActionError(f"actions: expected a dict keyed by agent name, got {type(actions)}")
         dropped: dict[str, list[str]] = {}
-        unknown = [a for a in actions if a not in self._row or a not in self.agents]
+        agent_set = set(self.agents)
+        unknown = [a for a in actions if a not in agent_set]
         if unknown:
             why = ("driven by a team plugin" if any(
                 str(a).split("_")[0] in self.teams for a in unknown) else "not an agent of this env")

@@ -202,13 +202,15 @@ class Referee:
     def _keep_own_half(self, world: World, team: int | None) -> None:
         """Move players of ``team`` (both if None) found in the opponents' half back, mirrored."""
         poses = world.player_poses()
-        for i, (x, y, h) in enumerate(poses):
+        sign = np.asarray(self.attack_sign, dtype=float)[self.team_of]
+        wrong = sign * poses[:, 0] > -self.player_radius  # the test below, for all at once
+        if team is not None:
+            wrong &= self.team_of == team
+        for i in np.flatnonzero(wrong).tolist():
+            x, y, h = poses[i]
             t = int(self.team_of[i])
-            if team is not None and t != team:
-                continue
-            if self.attack_sign[t] * x > -self.player_radius:
-                new_x = -self.attack_sign[t] * max(abs(x), self.player_radius + 0.05)
-                world.place_player(i, new_x, y, h)
+            new_x = -self.attack_sign[t] * max(abs(x), self.player_radius + 0.05)
+            world.place_player(i, new_x, y, h)
 
     def _keep_opponents_away(self, world: World, owner: int, kickoff: bool) -> None:
         """Opponents of ``owner`` stay ``set_play_distance`` from the ball (and, at kick-off,
@@ -219,9 +221,11 @@ class Referee:
             radius = max(radius, self.field.center_circle_radius)
             self._keep_own_half(world, team=1 - owner)
         poses = world.player_poses()
-        for i, (x, y, h) in enumerate(poses):
-            if int(self.team_of[i]) == owner:
-                continue
+        # Only players inside the square around the spot can be inside the circle.
+        near = (self.team_of != owner) & (np.abs(poses[:, 0] - bx) < radius + 1e-6) & \
+            (np.abs(poses[:, 1] - by) < radius + 1e-6)
+        for i in np.flatnonzero(near).tolist():
+            x, y, h = poses[i]
             dx, dy = x - bx, y - by
             dist = math.hypot(dx, dy)
             if dist < radius:
