@@ -184,6 +184,8 @@ class SoccerParallelEnv(ParallelEnv):
                                   kick_reach=float(profile.kick_reach))
             self.teams[side] = make_team(spec, context, config)
         self.team_agents = {side: [f"{side}_{k + 1}" for k in range(n)] for side in self.teams}
+        self._team_agent_sets = {side: set(a) for side, a in self.team_agents.items()}
+        self._team_rows = {side: [self._row[x] for x in a] for side, a in self.team_agents.items()}
 
         self.possible_agents = [a for a in self.player_names if a.split("_")[0] not in self.teams]
         self.agents: list[str] = []
@@ -377,8 +379,9 @@ class SoccerParallelEnv(ParallelEnv):
             self._obs_all = self.sim.observations(flat=flat)
             team_obs = self._obs_all
         t0 = self._clock()
+        rows = self._team_rows
         self._team_obs = {
-            side: {a: team_obs[self._row[a]] for a in agents}
+            side: dict(zip(agents, [team_obs[r] for r in rows[side]]))
             for side, agents in self.team_agents.items()
         }
         self._phase_s["perception"] += self._clock() - t0
@@ -412,14 +415,18 @@ class SoccerParallelEnv(ParallelEnv):
         if not isinstance(actions, Mapping):
             raise TeamFault(side, "invalid_action", f"act() returned {type(actions).__name__}, "
                             "expected a dict keyed by agent name")
-        extra = [a for a in actions if a not in agents]
+        driven = self._team_agent_sets[side]
+        extra = [a for a in actions if a not in driven]
         if extra:
             raise TeamFault(side, "invalid_action", f"act() returned actions for {extra}, which "
                             f"it does not drive")
-        given = [a for a in agents if a in actions]
+        if len(actions) == len(agents):  # every agent (the usual case): rows known
+            given, rows = agents, self._team_rows[side]
+        else:
+            given = [a for a in agents if a in actions]
+            rows = [self._row[a] for a in given]
         try:
-            self._team_parser.fill(cmd, [self._row[a] for a in given], given,
-                                   [actions[a] for a in given], {})
+            self._team_parser.fill(cmd, rows, given, [actions[a] for a in given], {})
         except ActionError as exc:
             raise TeamFault(side, "invalid_action", str(exc)) from exc
         self._phase_s["actions"] += self._clock() - start
