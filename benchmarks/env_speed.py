@@ -13,7 +13,10 @@ import time
 import numpy as np
 
 import teamenv
+from teamenv.env import TIMING_PHASES
 from teamenv.sim.world import World
+
+PHASES: dict[str, dict[str, float]] = {}  # env.timings() of the timed runs, by run name
 
 
 def bench_env(steps: int, team_size: int, action_format: str, seed: int = 0) -> float:
@@ -33,10 +36,13 @@ def bench_env(steps: int, team_size: int, action_format: str, seed: int = 0) -> 
                          for a in env.agents})
     for k in range(100):  # warm-up
         env.step(pool[k % 64])
+    env.reset_timings()
     start = time.perf_counter()
     for k in range(steps):
         env.step(pool[k % 64])
-    return steps / (time.perf_counter() - start)
+    rate = steps / (time.perf_counter() - start)
+    PHASES[f"env, random {action_format.capitalize()} actions"] = env.timings()
+    return rate
 
 
 def bench_teams(steps: int, team_size: int, left: str, right: str) -> float:
@@ -45,10 +51,13 @@ def bench_teams(steps: int, team_size: int, left: str, right: str) -> float:
     env.reset(seed=0)
     for _ in range(100):
         env.step({})
+    env.reset_timings()
     start = time.perf_counter()
     for _ in range(steps):
         env.step({})
-    return steps / (time.perf_counter() - start)
+    rate = steps / (time.perf_counter() - start)
+    PHASES[f"env, {left} vs {right}"] = env.timings()
+    return rate
 
 
 def bench_bare_pymunk(steps: int, team_size: int, seed: int = 0) -> tuple[float, float]:
@@ -136,6 +145,13 @@ def main() -> None:
     print(f"ratio env(Dict)/bare pymunk loop: {env_dict / space_rate:.2f}  "
           f"(target >= 0.5: {'met' if env_dict / space_rate >= 0.5 else 'NOT met'})")
     print(f"ratio env(Box)/bare pymunk loop:  {env_box / space_rate:.2f}")
+    print("where an env step goes (env.timings() of the timed runs, us per step):")
+    names = list(PHASES)
+    print(f"  {'phase':12s}" + "".join(f"{name:>34s}" for name in names))
+    for phase in (*TIMING_PHASES, "total"):
+        print(f"  {phase:12s}" + "".join(
+            f"{PHASES[name][phase] / (s if 'vs' not in name else s // 2) * 1e6:34.1f}"
+            for name in names))
     print("where an env step goes (each part timed alone):")
     for name, us in bench_components(s // 2, n).items():
         print(f"  {name:40s} {us:8.1f} us")
