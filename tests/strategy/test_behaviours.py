@@ -353,3 +353,19 @@ def test_quick_kick_facing_our_goal_does_not_kick_at_it():
     req = quick_kick(wm, SK)
     if req is not None:
         assert math.cos(math.pi + req.kick[1]) > -1.0 / 7.0 - 1e-9
+
+
+# -- dribbling -----------------------------------------------------------------------------------
+def test_dribble_walks_through_the_ball_towards_the_target():
+    wm = scenes.world((0.0, 0.0), 0.0, (0.25, 0.0))
+    req = ball_mod.dribble(wm, np.array([10.0, 0.0]), SK)
+    assert req.kick is None and req.walk[0] > 0.3 and abs(req.walk[2]) < 0.2
+
+
+@pytest.mark.parametrize("blocker_y", [0.2, -0.2])
+def test_dribble_aim_goes_round_an_opponent_in_the_way(blocker_y):
+    wm = scenes.world((0.0, 0.0), 0.0, (0.25, 0.0), opponents=[(1.2, blocker_y)])
+    aim = ball_mod.dribble_aim(wm, np.array([10.0, 0.0]))
+    assert np.sign(aim[1]) == -np.sign(blocker_y)  # the free side
+    free = scenes.world((0.0, 0.0), 0.0, (0.25, 0.0), opponents=[(6.0, 5.0)])
+    np.testing.assert_array_equal(ball_mod.dribble_aim(free, np.array([10.0, 0.0])), [10, 0])
