@@ -73,6 +73,8 @@ class FieldPlayerDecisionMaker:
         self.ball_player = self.choose_ball_player(wm)
         if self.ball_player == wm.me:
             return self.play_ball(wm)
+        if self.config.cover_m > 0 and self.supporter(wm) == wm.me:
+            return self.cover(wm)
         return hold_position(wm, positioning.target, self.skills)
 
     # -- pieces ----------------------------------------------------------------------------
@@ -109,6 +111,27 @@ class FieldPlayerDecisionMaker:
         if prev is not None and np.isfinite(d[prev]):
             d[prev] -= self.config.ball_player_hysteresis_m
         return int(np.argmin(d))
+
+    def supporter(self, wm: WorldModel) -> int | None:
+        """The upright field player closest to the ball after the ball player (None if
+        there is none)."""
+        upright = wm.teammates_present & ~wm.teammates_fallen
+        d = np.hypot(*(wm.teammates - wm.ball).T)
+        d[~upright] = np.inf
+        for k in (self.goalie, self.ball_player):
+            if k is not None:
+                d[k] = np.inf
+        k = int(np.argmin(d))
+        return k if np.isfinite(d[k]) else None
+
+    def cover(self, wm: WorldModel) -> ControlRequest:
+        """Stand ``cover_m`` goal-side of the ball, on its line to our goal centre: blocks the
+        shot and wins the ball if the challenge is lost."""
+        goal = wm.own_goal
+        to_goal = goal - wm.ball
+        dist = math.hypot(to_goal[0], to_goal[1])
+        target = wm.ball + to_goal * (min(self.config.cover_m, dist * 0.5) / max(dist, 1e-6))
+        return hold_position(wm, target, self.skills, behaviour="cover")
 
     def play_ball(self, wm: WorldModel) -> ControlRequest:
         """Shoot in range; under pressure near our goal clear; pass to a better-placed free

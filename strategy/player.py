@@ -16,10 +16,13 @@ from strategy.behaviours.skills import Skills
 from strategy.control import ControlRequest
 from strategy.decision import FieldPlayerDecisionMaker, GoalieDecisionMaker
 from strategy.formation.model import Formation
-from strategy.positioning import PositioningAgent
+from strategy.positioning import PositioningAgent, WorldView
 from strategy.setplays import Situation, situation, we_kick_off_next
 from strategy.teams.full_config import FullTeamConfig
 from strategy.worldmodel import WorldModel
+
+BELIEF_RESOLUTION_M = 0.01
+"""Positions are rounded to this (metres) before positioning."""
 
 
 class Player:
@@ -35,10 +38,14 @@ class Player:
             ``setplay-theirs``), all of the team's size.
         skills: body facts and navigation gains.
         channel: the say channel profile name.
+        memo: a cache of positioning results the team's players share (see
+            ``PositioningAgent``); beliefs are rounded to ``BELIEF_RESOLUTION_M`` first, so
+            agents that believe the same share the work.
     """
 
     def __init__(self, me: int, name: str, side: str, config: FullTeamConfig,
-                 formations: Mapping[str, Formation], skills: Skills, channel: str) -> None:
+                 formations: Mapping[str, Formation], skills: Skills, channel: str,
+                 memo: dict | None = None) -> None:
         self.me, self.name, self.side = me, name, side
         self.config = config
         self.formations = dict(formations)
@@ -46,7 +53,7 @@ class Player:
         defend = self.formations["defend"]
         self.positioning = PositioningAgent(
             me, defend, skills.field, marking=config.marking_params(), channel=channel,
-            say_every=config.say_every)
+            say_every=config.say_every, memo=memo)
         goalie = defend.goalie_index
         if goalie is not None and me == goalie:
             self.decision: FieldPlayerDecisionMaker | GoalieDecisionMaker = \
@@ -85,12 +92,22 @@ class Player:
         """This cycle's control request, from this agent's observation alone."""
         wm = self.perceive(obs)
         heard = wm.heard if self.config.communicate else ()
-        decision = self.positioning.step(wm.positioning_view(), heard, self.formation_for(wm))
+        decision = self.positioning.step(_rounded(wm.positioning_view()), heard,
+                                         self.formation_for(wm))
         request = self.decision.decide(wm, decision)
         if self.config.communicate and decision.say:
             request = request.with_say(decision.say)
         self.last_request = request
         return request
+
+
+def _rounded(view: WorldView) -> WorldView:
+    """``view`` with positions rounded to ``BELIEF_RESOLUTION_M`` (float32 observations differ
+    by ~1e-6 m between observers; the formation does not care)."""
+    r = BELIEF_RESOLUTION_M
+    return WorldView(np.round(view.players / r) * r, view.present, view.fallen,
+                     np.round(view.ball / r) * r, np.round(view.opponents / r) * r,
+                     view.opponents_present)
 
 
 def _we_control_ball(wm: WorldModel) -> bool:

@@ -115,6 +115,10 @@ class PositioningAgent:
         max_age_cycles: age limit of heard role vectors, cycles.
         fallen_penalty_m: extra distance charged to fallen players in role assignment, metres.
         say_every: say the role vector every this many cycles (offset by ``me``), 1 = always.
+        memo: a dict that caches the pure part of ``step`` (formation lookup, marking, role
+            assignment) by its exact inputs; agents of one process may share one, so identical
+            world views are computed once (a cache of a pure function: no agent sees another's
+            view). None: no caching.
     """
 
     def __init__(
@@ -128,6 +132,7 @@ class PositioningAgent:
         max_age_cycles: int = DEFAULT_MAX_AGE_CYCLES,
         fallen_penalty_m: float = FALLEN_PENALTY_M,
         say_every: int = 1,
+        memo: dict | None = None,
     ) -> None:
         self.n = formation.n_players
         if not 0 <= me < self.n:
@@ -141,6 +146,7 @@ class PositioningAgent:
         self.channel = channel
         self.fallen_penalty_m = float(fallen_penalty_m)
         self.say_every = int(say_every)
+        self.memo = memo
         self.voter = RoleVoter(self.n, self.me, max_age_cycles)
         self.cycle = 0
 
@@ -175,6 +181,31 @@ class PositioningAgent:
             vote = decode_role_vote(text, self.n, self.channel)
             if vote is not None and 0 <= vote[0] < self.n:
                 self.voter.hear(vote[0], vote[1], cycle, validate=False)  # decoder checked it
+        key = None
+        if self.memo is not None:
+            key = (f, self.marking, self.fallen_penalty_m, view.ball.tobytes(), view.players.tobytes(), view.present.tobytes(),
+                   view.fallen.tobytes(), view.opponents.tobytes(),
+                   view.opponents_present.tobytes())
+            hit = self.memo.get(key)
+            if hit is not None:
+                positions, own = hit
+            else:
+                positions, own = self._assign(f, view)
+                if len(self.memo) >= 16:
+                    self.memo.clear()
+                self.memo[key] = (positions, own)
+        else:
+            positions, own = self._assign(f, view)
+        team = self.voter.vote(own.position_of, cycle, validate=False)
+        k = int(team[self.me])
+        say = ""
+        if (cycle + self.me) % self.say_every == 0:
+            say = encode_role_vote(self.me, own.position_of, self.n, self.channel)
+        return PositioningDecision(positions[k].copy(), k, own.position_of, team, positions, say,
+                                   own.max_distance)
+
+    def _assign(self, f: Formation, view: WorldView):
+        """Formation lookup, marking and role assignment for ``view`` (a pure function)."""
         positions = f.home_positions(view.ball)
         if self.marking is not None:
             positions = apply_marking(positions, view.ball, view.opponents, self.field,
@@ -185,14 +216,8 @@ class PositioningAgent:
                            goalie=0 if gi is not None else None,
                            goalie_position=gi if gi is not None else 0,
                            fallen_penalty_m=self.fallen_penalty_m)
-        team = self.voter.vote(own.position_of, cycle, validate=False)
-        k = int(team[self.me])
-        say = ""
-        if (cycle + self.me) % self.say_every == 0:
-            say = encode_role_vote(self.me, own.position_of, self.n, self.channel)
-        return PositioningDecision(positions[k].copy(), k, own.position_of, team, positions, say,
-                                   own.max_distance)
-
+        positions.flags.writeable = False
+        return positions, own
 
 def _protected(f: Formation) -> tuple[int, ...]:
     gi = f.goalie_index

@@ -43,6 +43,8 @@ class FullTeamConfig:
         dribble_speed: walking speed while pushing the ball, m/s.
         ball_player_hysteresis_m: the current ball player keeps the ball unless a teammate
             is this much closer (stops two players swapping every cycle).
+        cover_m: the next closest field player stands this far goal-side of the ball, on
+            its line to our goal (0 = no cover player).
     Goalie:
         goalie_line_m: stands this far in front of the goal line.
         goalie_clear_m: goes out to clear a ball this close to the goal centre.
@@ -69,7 +71,7 @@ class FullTeamConfig:
     mark_max_behind_ball_m: float = 3.0
     mark_distance_m: float = 1.5
     max_markers: int = 2
-    shoot_range_m: float = 9.0
+    shoot_range_m: float = 12.0
     advance_kick_clearance_m: float = 2.5
     pass_min_gain_m: float = 3.0
     pass_max_m: float = 9.0
@@ -79,6 +81,7 @@ class FullTeamConfig:
     clear_zone_m: float = 6.0
     dribble_speed: float = 0.9
     ball_player_hysteresis_m: float = 0.5
+    cover_m: float = 3.0
     goalie_line_m: float = 0.5
     goalie_clear_m: float = 3.5
     set_play_clearance_m: float = 2.6
