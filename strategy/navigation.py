@@ -107,10 +107,18 @@ def direction_to(position: ArrayLike, target: ArrayLike, obstacles: ArrayLike,
                  params: NavigationParams) -> float:
     """The walking direction theta (eq. 10), radians in the team frame."""
     v = field_vector(position, target, obstacles, params)
+    t = np.asarray(target, dtype=np.float64) - np.asarray(position, dtype=np.float64)
+    straight = math.atan2(t[1], t[0])
     if not v.any():
-        t = np.asarray(target, dtype=np.float64) - np.asarray(position, dtype=np.float64)
-        return math.atan2(t[1], t[0])
-    return math.atan2(v[1], v[0])
+        return straight
+    theta = math.atan2(v[1], v[0])
+    # A potential field has local minima: obstacles squarely ahead cancel the attraction and
+    # the walker stalls. When the field points more than 60 degrees off the target, go round
+    # (60 degrees to the side the field leans to, left on an exact tie).
+    error = wrap(theta - straight)
+    if abs(error) > math.pi / 3:
+        return straight + math.copysign(math.pi / 3, error if error != 0 else 1.0)
+    return theta
 
 
 def wrap(angle: float) -> float:

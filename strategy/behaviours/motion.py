@@ -63,9 +63,11 @@ def keep_clear(target: ArrayLike, center: ArrayLike, radius: float) -> NDArray[n
 
 
 def detour(position: ArrayLike, target: ArrayLike, center: ArrayLike,
-           radius: float) -> NDArray[np.float64]:
+           radius: float, margin: float = 0.3) -> NDArray[np.float64]:
     """A waypoint that takes a walk from ``position`` to ``target`` around the circle
-    (``center``, ``radius``): ``target`` itself when the straight path does not enter it."""
+    (``center``, ``radius``): ``target`` itself when the straight path does not enter it,
+    else the tangent point of the circle of ``radius + margin`` on the target's side (the
+    straight walk to a tangent point stays outside that circle)."""
     p = np.asarray(position, dtype=np.float64)
     t = np.asarray(target, dtype=np.float64)
     c = np.asarray(center, dtype=np.float64)
@@ -74,12 +76,19 @@ def detour(position: ArrayLike, target: ArrayLike, center: ArrayLike,
     if length2 < 1e-12:
         return keep_clear(t, c, radius)
     s = min(1.0, max(0.0, float((c - p) @ seg) / length2))
-    closest = p + s * seg
-    gap = closest - c
-    dist = math.hypot(gap[0], gap[1])
-    if dist >= radius:
+    gap = p + s * seg - c
+    if math.hypot(gap[0], gap[1]) >= radius:
         return t
-    if dist < 1e-9:  # straight through the centre: go round on the left of the path
-        gap = np.array([-seg[1], seg[0]])
-        dist = math.hypot(gap[0], gap[1])
-    return c + gap * ((radius + 0.3) / dist)
+    outer = radius + margin
+    rel = p - c
+    rp = math.hypot(rel[0], rel[1])
+    if rp <= outer * 1.001:  # inside or on the ring: step straight out first
+        if rp < 1e-9:
+            rel, rp = np.array([-1.0, 0.0]), 1.0
+        return c + rel * ((outer + 0.1) / rp)
+    a_p = math.atan2(rel[1], rel[0])
+    a_t = math.atan2(t[1] - c[1], t[0] - c[0])
+    turn = wrap(a_t - a_p)
+    side = 1.0 if turn > 0 or (turn == 0 and rel[0] * seg[1] - rel[1] * seg[0] <= 0) else -1.0
+    angle = a_p + side * math.acos(outer / rp)
+    return c + outer * np.array([math.cos(angle), math.sin(angle)])

@@ -304,9 +304,6 @@ def test_detour_waypoints_lie_outside_and_the_walk_arrives(px, py, tx, ty, r):
     assert arrived
 
 
-@pytest.mark.xfail(strict=True, reason="detour: the straight walk from the position to its "
-                   "waypoint (radius + 0.3 along the closest-point direction) cuts through the "
-                   "circle; going round a 2.6 m circle from 2.7 m the walk dips to 1.76 m")
 @settings(max_examples=60, deadline=None)
 @example(px=0.0, py=-2.7, tx=0.0, ty=2.7, r=2.6)
 @example(px=0.3, py=-3.0, tx=0.0, ty=3.0, r=2.6)

@@ -149,8 +149,6 @@ def test_closed_loop_walks_round_players_to_a_target_behind_them(obstacles, targ
     assert closest > 2 * scenes.BODY_RADIUS
 
 
-@pytest.mark.xfail(strict=True, reason="potential-field local minimum: a wall of three players "
-                   "squarely across the line stalls the walker ~1.5 m in front of it for good")
 def test_closed_loop_passes_a_wall_of_three_players():
     reached, closest = unicycle([0, 0], 0.0, np.array([6.0, 0.0]),
                                 [[3.0, -0.6], [3.0, 0.0], [3.0, 0.6]])
