@@ -381,7 +381,7 @@ class SoccerParallelEnv(ParallelEnv):
         t0 = self._clock()
         rows = self._team_rows
         self._team_obs = {
-            side: dict(zip(agents, [team_obs[r] for r in rows[side]]))
+            side: dict(zip(agents, [team_obs[r] for r in rows[side]], strict=True))
             for side, agents in self.team_agents.items()
         }
         self._phase_s["perception"] += self._clock() - t0

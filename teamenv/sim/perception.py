@@ -126,5 +126,6 @@ class StatePerception:
             for me, b, mates, opps, pm, g, texts, heard in zip(
                 out[:, :SELF_DIM], out[:, self._o_ball:self._o_players], players[:, :size],
                 players[:, size:], team_modes, out[:, self._o_game:self._o_heard],
-                heard_texts, out[:, self._o_heard:].reshape(n, self.heard_slots, HEARD_DIM))
+                heard_texts, out[:, self._o_heard:].reshape(n, self.heard_slots, HEARD_DIM),
+                strict=True)
         ]

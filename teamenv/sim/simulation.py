@@ -18,7 +18,6 @@ from teamenv.sim.perception import HEARD_DIM, StatePerception
 from teamenv.sim.referee import Referee, RefereeEvent
 from teamenv.sim.world import World, wrap_angle
 
-
 #: Phases of a cycle timed by ``Simulation`` (see ``Simulation.phase_s``).
 SIM_PHASES = ("beam", "locomotion", "kick", "physics", "referee", "comms", "perception")
 
