@@ -18,7 +18,7 @@ from strategy.behaviours.ball import choose_pass, clear_ball, kick_to, pass_to
 from strategy.behaviours.skills import Skills
 from strategy.control import ControlRequest
 from strategy.worldmodel import WorldModel
-from teamenv.sim.playmode import PlayMode
+from teamenv import PlayMode
 
 
 class Situation(Enum):

@@ -20,7 +20,7 @@ from strategy.positioning import WorldView, heard_texts
 from teamenv.errors import TeamEnvError
 from teamenv.field import FieldSpec
 from teamenv.observation import team_frame
-from teamenv.sim.playmode import PlayMode
+from teamenv import PlayMode
 
 
 class WorldModelError(TeamEnvError, ValueError):
