@@ -35,6 +35,10 @@ class ControlRequest:
     def with_say(self, text: str) -> ControlRequest:
         return replace(self, say=text)
 
+    def named(self, behaviour: str) -> ControlRequest:
+        """The same request, credited to ``behaviour``."""
+        return replace(self, behaviour=behaviour)
+
     def to_action(self, low: NDArray[np.float64], high: NDArray[np.float64]) -> dict[str, Any]:
         """The env's Dict-form action; the walk command is clipped to [low, high]."""
         walk = np.minimum(np.maximum(self.walk, low), high)

@@ -102,9 +102,7 @@ class FieldPlayerDecisionMaker:
     def choose_ball_player(self, wm: WorldModel) -> int:
         """The upright teammate closest to the ball (the goalie only if nobody else is
         upright); the previous ball player keeps it unless beaten by the hysteresis margin."""
-        upright = wm.teammates_present & ~wm.teammates_fallen
-        d = np.hypot(*(wm.teammates - wm.ball).T)
-        d[~upright] = np.inf
+        d = wm.upright_ball_distances()
         if self.goalie is not None and np.isfinite(np.delete(d, self.goalie)).any():
             d[self.goalie] = np.inf
         prev = self.ball_player
@@ -115,9 +113,7 @@ class FieldPlayerDecisionMaker:
     def supporter(self, wm: WorldModel) -> int | None:
         """The upright field player closest to the ball after the ball player (None if
         there is none)."""
-        upright = wm.teammates_present & ~wm.teammates_fallen
-        d = np.hypot(*(wm.teammates - wm.ball).T)
-        d[~upright] = np.inf
+        d = wm.upright_ball_distances()
         for k in (self.goalie, self.ball_player):
             if k is not None:
                 d[k] = np.inf
@@ -144,7 +140,7 @@ class FieldPlayerDecisionMaker:
             target = shot_target(wm)
             now = quick_kick(wm, self.skills, preferred=target)
             if now is not None and now.kick is not None and self._aims_at(wm, now, target):
-                return _named(now, "shoot")
+                return now.named("shoot")
             return shoot(wm, self.skills)
         opps = wm.opponents[wm.opponents_present & ~wm.opponents_fallen]
         clearance = float(np.min(np.hypot(*(opps - wm.ball).T))) if len(opps) else math.inf
@@ -152,7 +148,7 @@ class FieldPlayerDecisionMaker:
         own_line = wm.ball[0] + wm.field.half_length
         if pressure and own_line < c.clear_zone_m:
             now = quick_kick(wm, self.skills)
-            return _named(now, "clear") if now is not None else clear_ball(wm, self.skills)
+            return now.named("clear") if now is not None else clear_ball(wm, self.skills)
         mate = choose_pass(wm, c.pass_min_gain_m, c.pass_max_m, c.pass_lane_m,
                            c.receiver_free_m, exclude=() if self.goalie is None else (self.goalie,))
         if mate is not None and (pressure or in_kick_reach(wm, self.skills)):
@@ -165,7 +161,7 @@ class FieldPlayerDecisionMaker:
                          behaviour="challenge")
         if c.advance_kick_clearance_m > 0 and clearance >= c.advance_kick_clearance_m:
             aim = open_aim(wm, shot_target(wm))
-            return _named(kick_to(wm, aim, self.skills, power=1.0), "advance_kick")
+            return kick_to(wm, aim, self.skills, power=1.0).named("advance_kick")
         return dribble(wm, shot_target(wm), self.skills, speed=c.dribble_speed)
 
     @staticmethod
@@ -212,10 +208,6 @@ class GoalieDecisionMaker:
 
     def _guard(self, wm: WorldModel) -> np.ndarray:
         return goalie_target(wm, self.config.goalie_line_m)
-
-
-def _named(request: ControlRequest, name: str) -> ControlRequest:
-    return ControlRequest(walk=request.walk, kick=request.kick, behaviour=name)
 
 
 def _at(decision: PositioningDecision, target: np.ndarray) -> PositioningDecision:

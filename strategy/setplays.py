@@ -60,11 +60,10 @@ def we_kick_off_next(mode: PlayMode, half: int, side: str) -> bool:
 def set_play_taker(wm: WorldModel, mode: PlayMode, goalie: int | None) -> int:
     """Our player who takes the set play ``mode``: the goalie takes goal kicks (when upright);
     otherwise the upright field player closest to the ball (lowest index on a tie)."""
-    upright = wm.teammates_present & ~wm.teammates_fallen
+    d = wm.upright_ball_distances()
+    upright = np.isfinite(d)
     if mode.kind == "GoalKick" and goalie is not None and upright[goalie]:
         return goalie
-    d = np.hypot(*(wm.teammates - wm.ball).T)
-    d[~upright] = np.inf
     if goalie is not None and upright.sum() > 1:
         d[goalie] = np.inf
     return int(np.argmin(d))
@@ -79,15 +78,15 @@ def take_set_play(wm: WorldModel, skills: Skills, pass_max_m: float,
     mode = wm.play_mode
     if mode.kind == "CornerKick":
         target = np.array([f.half_length - f.penalty_length - 0.5, 0.0])
-        return _named(kick_to(wm, target, skills), "corner_kick")
+        return kick_to(wm, target, skills).named("corner_kick")
     if mode.kind == "GoalKick":
-        return _named(clear_ball(wm, skills), "goal_kick")
+        return clear_ball(wm, skills).named("goal_kick")
     mate = choose_pass(wm, min_gain_m=0.0, max_distance_m=pass_max_m, lane_m=lane_m,
                        free_m=1.0)
     if mate is not None:
-        return _named(pass_to(wm, mate, skills), f"{_name(mode)}_pass")
+        return pass_to(wm, mate, skills).named(f"{_name(mode)}_pass")
     forward = np.array([wm.ball[0] + 4.0, wm.ball[1] * 0.5])
-    return _named(kick_to(wm, forward, skills, power=0.45), f"{_name(mode)}_forward")
+    return kick_to(wm, forward, skills, power=0.45).named(f"{_name(mode)}_forward")
 
 
 def keep_distance(target: NDArray[np.float64], wm: WorldModel, clearance_m: float,
@@ -113,7 +112,3 @@ def keep_distance(target: NDArray[np.float64], wm: WorldModel, clearance_m: floa
 def _name(mode: PlayMode) -> str:
     return {"KickIn": "kick_in", "KickOff": "kick_off"}.get(mode.kind, mode.kind.lower())
 
-
-def _named(request: ControlRequest, name: str) -> ControlRequest:
-    return ControlRequest(walk=request.walk, kick=request.kick, beam=request.beam,
-                          say=request.say, behaviour=name)

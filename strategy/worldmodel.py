@@ -103,6 +103,13 @@ class WorldModel:
     def ball_distance(self) -> float:
         return self.distance(self.ball)
 
+    def upright_ball_distances(self) -> NDArray[np.float64]:
+        """(N,) each teammate's distance to the ball (own row included); inf for teammates
+        absent or fallen."""
+        d = np.hypot(self.teammates[:, 0] - self.ball[0], self.teammates[:, 1] - self.ball[1])
+        d[~(self.teammates_present & ~self.teammates_fallen)] = np.inf
+        return d
+
     def positioning_view(self) -> WorldView:
         """The view ``strategy.positioning.PositioningAgent`` decides from."""
         return WorldView(self.teammates, self.teammates_present, self.teammates_fallen,

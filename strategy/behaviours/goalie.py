@@ -35,5 +35,4 @@ def goalie_position(wm: WorldModel, skills: Skills, line_m: float) -> ControlReq
 def goalie_clear(wm: WorldModel, skills: Skills) -> ControlRequest:
     """Go to the ball and kick it away from the goal (the clear behaviour, named for the
     goalie)."""
-    request = clear_ball(wm, skills)
-    return ControlRequest(walk=request.walk, kick=request.kick, behaviour="goalie_clear")
+    return clear_ball(wm, skills).named("goalie_clear")
