@@ -28,24 +28,32 @@ from strategy.behaviours import (
     shoot,
     shot_target,
 )
-from strategy.behaviours.ball import in_kick_reach, open_aim, quick_kick
+from strategy.behaviours.ball import in_kick_reach
+from strategy.behaviours.kick_choice import best_kick
 from strategy.behaviours.motion import detour, go_to
 from strategy.control import ControlRequest
 from strategy.navigation import wrap
 from strategy.positioning import PositioningDecision
 from strategy.setplays import Situation, keep_distance, set_play_taker, situation, take_set_play
 from strategy.teams.full_config import FullTeamConfig
-from strategy.worldmodel import WorldModel
+from strategy.worldmodel import WorldModel, shared
+
+
+MOVING_BALL_M_S = 1.0
+"""Faster than this the ball is rolling (a kick), not being pushed in a dribble: players are
+chosen, and run, by where they can meet it."""
 
 
 class FieldPlayerDecisionMaker:
     """Decides for a field player: play the ball when it is the team's ball player, else hold
     its voted formation (or marking) position; set plays and beaming by the play mode."""
 
-    def __init__(self, config: FullTeamConfig, skills: Skills, goalie: int | None) -> None:
+    def __init__(self, config: FullTeamConfig, skills: Skills, goalie: int | None,
+                 facts: dict | None = None) -> None:
         self.config = config
         self.skills = skills
         self.goalie = goalie
+        self.facts = facts  # team-wide facts shared by teammates who believe the same
         self.ball_player: int | None = None
 
     def reset(self) -> None:
@@ -75,7 +83,15 @@ class FieldPlayerDecisionMaker:
             return self.play_ball(wm)
         if self.config.cover_m > 0 and self.supporter(wm) == wm.me:
             return self.cover(wm)
-        return hold_position(wm, positioning.target, self.skills)
+        return hold_position(wm, self.pulled(wm, positioning.target), self.skills)
+
+    def pulled(self, wm: WorldModel, target: np.ndarray) -> np.ndarray:
+        """The formation position moved ``ball_pull`` of the way towards where the ball will
+        stop: the team closes on the ball, so it wins the races for it."""
+        pull = self.config.ball_pull
+        if pull <= 0:
+            return target
+        return target + pull * (wm.ball_rest() - target)
 
     # -- pieces ----------------------------------------------------------------------------
     def beam(self, wm: WorldModel, positioning: PositioningDecision) -> ControlRequest:
@@ -100,9 +116,9 @@ class FieldPlayerDecisionMaker:
         return request
 
     def choose_ball_player(self, wm: WorldModel) -> int:
-        """The upright teammate closest to the ball (the goalie only if nobody else is
-        upright); the previous ball player keeps it unless beaten by the hysteresis margin."""
-        d = wm.upright_ball_distances()
+        """The upright teammate who can be at the ball first (the goalie only if nobody else
+        is upright); the previous ball player keeps it unless beaten by the hysteresis margin."""
+        d = self.ball_reach(wm)
         if self.goalie is not None and np.isfinite(np.delete(d, self.goalie)).any():
             d[self.goalie] = np.inf
         prev = self.ball_player
@@ -110,10 +126,23 @@ class FieldPlayerDecisionMaker:
             d[prev] -= self.config.ball_player_hysteresis_m
         return int(np.argmin(d))
 
+    def ball_reach(self, wm: WorldModel) -> np.ndarray:
+        """(N,) how far each teammate must walk to meet the ball (at rest: its distance;
+        rolling: to the earliest point it can intercept it); inf for the absent or fallen."""
+        return shared(self.facts, "ball_reach", wm, lambda: self._ball_reach(wm)).copy()
+
+    def _ball_reach(self, wm: WorldModel) -> np.ndarray:
+        d = wm.upright_ball_distances()
+        if math.hypot(*wm.ball_velocity) < MOVING_BALL_M_S:
+            return d
+        speed = self.config.nav_max_speed
+        times, _ = wm.intercepts(wm.teammates, speed)
+        return np.where(np.isfinite(d), times * speed, np.inf)
+
     def supporter(self, wm: WorldModel) -> int | None:
         """The upright field player closest to the ball after the ball player (None if
         there is none)."""
-        d = wm.upright_ball_distances()
+        d = self.ball_reach(wm)
         for k in (self.goalie, self.ball_player):
             if k is not None:
                 d[k] = np.inf
@@ -130,39 +159,24 @@ class FieldPlayerDecisionMaker:
         return hold_position(wm, target, self.skills, behaviour="cover")
 
     def play_ball(self, wm: WorldModel) -> ControlRequest:
-        """Shoot in range; under pressure near our goal clear; pass to a better-placed free
-        teammate; contested (an opponent within ``pressure_m``): kick now in the best
-        direction the body allows, else go straight for the ball; open ground: kick long
-        into space, or dribble towards the goal."""
+        """Run to meet a rolling ball; else choose the kick that wins the race to where the
+        ball stops, or scores (``best_kick``). Kick it when we win that race by
+        ``kick_min_margin_s``, or when an opponent within ``pressure_m`` leaves no time,
+        or to shoot; otherwise dribble towards the goal (round anyone in the way)."""
         c = self.config
-        goal_distance = math.hypot(*(wm.opponent_goal - wm.ball))
-        if goal_distance <= c.shoot_range_m:
-            target = shot_target(wm)
-            now = quick_kick(wm, self.skills, preferred=target)
-            if now is not None and now.kick is not None and self._aims_at(wm, now, target):
-                return now.named("shoot")
-            return shoot(wm, self.skills)
+        if math.hypot(*wm.ball_velocity) >= MOVING_BALL_M_S and not in_kick_reach(wm, self.skills):
+            _, points = wm.intercepts(wm.position[None, :], c.nav_max_speed)
+            if wm.distance(points[0]) > 0.5:
+                return go_to(wm, points[0], self.skills, face=wm.ball, behaviour="intercept")
+        choice = best_kick(wm, c.nav_max_speed, c.kick_possession_weight, c.kick_progress_weight,
+                           c.kick_goal_weight,
+                           exclude=() if self.goalie is None else (self.goalie,))
         opps = wm.opponents[wm.opponents_present & ~wm.opponents_fallen]
         clearance = float(np.min(np.hypot(*(opps - wm.ball).T))) if len(opps) else math.inf
-        pressure = clearance < c.pressure_m
-        own_line = wm.ball[0] + wm.field.half_length
-        if pressure and own_line < c.clear_zone_m:
-            now = quick_kick(wm, self.skills)
-            return now.named("clear") if now is not None else clear_ball(wm, self.skills)
-        mate = choose_pass(wm, c.pass_min_gain_m, c.pass_max_m, c.pass_lane_m,
-                           c.receiver_free_m, exclude=() if self.goalie is None else (self.goalie,))
-        if mate is not None and (pressure or in_kick_reach(wm, self.skills)):
-            return pass_to(wm, mate, self.skills)
-        if pressure:
-            now = quick_kick(wm, self.skills, preferred=open_aim(wm, shot_target(wm)))
-            if now is not None:
-                return now
-            return go_to(wm, wm.ball, self.skills, face=wm.ball, avoid=False,
-                         behaviour="challenge")
-        if c.advance_kick_clearance_m > 0 and clearance >= c.advance_kick_clearance_m:
-            aim = open_aim(wm, shot_target(wm))
-            return kick_to(wm, aim, self.skills, power=1.0).named("advance_kick")
-        return dribble(wm, shot_target(wm), self.skills, speed=c.dribble_speed)
+        name = "shoot" if choice.shot else "pass" if choice.margin_s > 0 else "clear"
+        if choice.shot or clearance < c.pressure_m or choice.margin_s >= c.kick_min_margin_s:
+            return kick_to(wm, choice.target, self.skills, power=choice.power, behaviour=name)
+        return dribble(wm, wm.opponent_goal, self.skills, speed=c.dribble_speed)
 
     @staticmethod
     def _aims_at(wm: WorldModel, request: ControlRequest, target: np.ndarray) -> bool:
@@ -174,11 +188,12 @@ class GoalieDecisionMaker:
     """Decides for the goalie: guard the goal on the ball line, clear a ball that comes close,
     take our goal kicks, and beam to the goal at kick-offs."""
 
-    def __init__(self, config: FullTeamConfig, skills: Skills, goalie: int) -> None:
+    def __init__(self, config: FullTeamConfig, skills: Skills, goalie: int,
+                 facts: dict | None = None) -> None:
         self.config = config
         self.skills = skills
         self.goalie = goalie
-        self.field_player = FieldPlayerDecisionMaker(config, skills, goalie)
+        self.field_player = FieldPlayerDecisionMaker(config, skills, goalie, facts)
 
     def reset(self) -> None:
         self.field_player.reset()

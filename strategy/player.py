@@ -16,14 +16,10 @@ from strategy.behaviours.skills import Skills
 from strategy.control import ControlRequest
 from strategy.decision import FieldPlayerDecisionMaker, GoalieDecisionMaker
 from strategy.formation.model import Formation
-from strategy.positioning import PositioningAgent, WorldView
+from strategy.positioning import PositioningAgent
 from strategy.setplays import Situation, situation, we_kick_off_next
 from strategy.teams.full_config import FullTeamConfig
-from strategy.worldmodel import WorldModel
-
-BELIEF_RESOLUTION_M = 0.01
-"""Positions are rounded to this (metres) before positioning."""
-
+from strategy.worldmodel import WorldModel, shared
 
 class Player:
     """The brain of agent ``name`` (player index ``me``).
@@ -39,13 +35,14 @@ class Player:
         skills: body facts and navigation gains.
         channel: the say channel profile name.
         memo: a cache of positioning results the team's players share (see
-            ``PositioningAgent``); beliefs are rounded to ``BELIEF_RESOLUTION_M`` first, so
-            agents that believe the same share the work.
+            ``PositioningAgent``), so agents that believe the same share the work.
+        facts: the same for the decision makers' team-wide facts (who reaches the ball
+            first, whether we control it), keyed by ``WorldModel.belief_key``.
     """
 
     def __init__(self, me: int, name: str, side: str, config: FullTeamConfig,
                  formations: Mapping[str, Formation], skills: Skills, channel: str,
-                 memo: dict | None = None) -> None:
+                 memo: dict | None = None, facts: dict | None = None) -> None:
         self.me, self.name, self.side = me, name, side
         self.config = config
         self.formations = dict(formations)
@@ -57,9 +54,10 @@ class Player:
         goalie = defend.goalie_index
         if goalie is not None and me == goalie:
             self.decision: FieldPlayerDecisionMaker | GoalieDecisionMaker = \
-                GoalieDecisionMaker(config, skills, goalie)
+                GoalieDecisionMaker(config, skills, goalie, facts)
         else:
-            self.decision = FieldPlayerDecisionMaker(config, skills, goalie)
+            self.decision = FieldPlayerDecisionMaker(config, skills, goalie, facts)
+        self.facts = facts
         self.last_request = ControlRequest()
 
     def reset(self) -> None:
@@ -68,7 +66,8 @@ class Player:
         self.last_request = ControlRequest()
 
     def perceive(self, obs: Mapping[str, Any]) -> WorldModel:
-        return WorldModel.from_observation(obs, self.me, self.skills.field, self.name)
+        return WorldModel.from_observation(obs, self.me, self.skills.field, self.name,
+                                           self.skills.ball_roll)
 
     def formation_for(self, wm: WorldModel) -> Formation:
         """The formation the situation calls for."""
@@ -84,7 +83,8 @@ class Player:
             return self.formations["setplay-ours"]
         if now is Situation.THEIR_SET_PLAY:
             return self.formations["setplay-theirs"]
-        if self.config.switch_formations and _we_control_ball(wm):
+        if self.config.switch_formations and shared(self.facts, "control", wm,
+                                                        lambda: _we_control_ball(wm)):
             return self.formations["attack"]
         return self.formations["defend"]
 
@@ -92,22 +92,13 @@ class Player:
         """This cycle's control request, from this agent's observation alone."""
         wm = self.perceive(obs)
         heard = wm.heard if self.config.communicate else ()
-        decision = self.positioning.step(_rounded(wm.positioning_view()), heard,
+        decision = self.positioning.step(wm.positioning_view(anticipate=True), heard,
                                          self.formation_for(wm))
         request = self.decision.decide(wm, decision)
         if self.config.communicate and decision.say:
             request = request.with_say(decision.say)
         self.last_request = request
         return request
-
-
-def _rounded(view: WorldView) -> WorldView:
-    """``view`` with positions rounded to ``BELIEF_RESOLUTION_M`` (float32 observations differ
-    by ~1e-6 m between observers; the formation does not care)."""
-    r = BELIEF_RESOLUTION_M
-    return WorldView(np.round(view.players / r) * r, view.present, view.fallen,
-                     np.round(view.ball / r) * r, np.round(view.opponents / r) * r,
-                     view.opponents_present)
 
 
 def _we_control_ball(wm: WorldModel) -> bool:

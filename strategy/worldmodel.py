@@ -9,18 +9,27 @@ another agent's observation: a team's agents share no state.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
 
+from strategy.ballroll import BallRoll
 from strategy.positioning import WorldView, heard_texts
 from teamenv.errors import TeamEnvError
 from teamenv.field import FieldSpec
 from teamenv.observation import team_frame
 from teamenv import PlayMode
+
+
+T = TypeVar("T")
+
+BELIEF_RESOLUTION_M = 0.01
+"""Positions (m) and the ball's velocity (m/s) are rounded to this: float32 observations
+differ by ~1e-6 m between observers, and teammates who believe the same should decide the
+same (and can share the work: ``belief_key``)."""
 
 
 class WorldModelError(TeamEnvError, ValueError):
@@ -41,6 +50,9 @@ class WorldModel:
         time_s, half, score: game clock, half (1 or 2), (ours, theirs).
         heard: texts heard this cycle from teammates or oneself.
         field: the pitch.
+        roll: the ball's drag model (to predict where a rolling ball goes).
+        belief_key: bytes identifying everything but the own pose and the texts heard;
+            teammates with equal keys believe the same about the pitch.
     """
 
     me: int
@@ -62,10 +74,12 @@ class WorldModel:
     score: tuple[int, int]
     heard: tuple[str, ...]
     field: FieldSpec
+    roll: BallRoll = BallRoll()
+    belief_key: bytes = b""
 
     @classmethod
     def from_observation(cls, obs: Mapping[str, Any], me: int, field: FieldSpec,
-                         agent: str = "") -> WorldModel:
+                         agent: str = "", roll: BallRoll | None = None) -> WorldModel:
         """Build the world model of agent ``me`` from its Dict-form ``state`` observation."""
         try:
             v = team_frame(obs)
@@ -77,16 +91,23 @@ class WorldModel:
         if not (math.isfinite(v.position[0] + v.position[1] + v.ball[0] + v.ball[1])):
             raise WorldModelError(f"{agent or f'player {me}'}: observation 'self'/'ball' is not "
                                   f"finite: position={v.position.tolist()}, ball={v.ball.tolist()}")
-        mates = v.teammates.copy()
-        mates[me] = v.position
+        position = _rounded(v.position)
+        ball, ball_velocity = _rounded(v.ball), _rounded(v.ball_velocity)
+        mates = _rounded(v.teammates)
+        mates[me] = position
         present = v.teammates_present.copy()
         present[me] = True
         mates_fallen = v.teammates_fallen.copy()
         mates_fallen[me] = v.fallen
-        return cls(me, v.position, v.heading, v.velocity, v.fallen, v.ball, v.ball_velocity,
-                   mates, present, mates_fallen, v.opponents, v.opponents_present,
+        opponents = _rounded(v.opponents)
+        key = b"".join((ball.tobytes(), ball_velocity.tobytes(), mates.tobytes(),
+                        present.tobytes(), mates_fallen.tobytes(), opponents.tobytes(),
+                        v.opponents_present.tobytes(), v.opponents_fallen.tobytes(),
+                        int(v.play_mode).to_bytes(2, "little")))
+        return cls(me, position, v.heading, v.velocity, v.fallen, ball, ball_velocity,
+                   mates, present, mates_fallen, opponents, v.opponents_present,
                    v.opponents_fallen, v.play_mode, v.time_s, v.half, v.score,
-                   tuple(heard_texts(obs)), field)
+                   tuple(heard_texts(obs)), field, roll or BallRoll(), key)
 
     # -- derived beliefs -------------------------------------------------------------------
     @property
@@ -110,10 +131,12 @@ class WorldModel:
         d[~(self.teammates_present & ~self.teammates_fallen)] = np.inf
         return d
 
-    def positioning_view(self) -> WorldView:
-        """The view ``strategy.positioning.PositioningAgent`` decides from."""
+    def positioning_view(self, anticipate: bool = False) -> WorldView:
+        """The view ``strategy.positioning.PositioningAgent`` decides from (``anticipate``:
+        with the ball where it will stop, so the team moves with a kick, not after it)."""
+        ball = self.ball_rest() if anticipate else self.ball
         return WorldView(self.teammates, self.teammates_present, self.teammates_fallen,
-                         self.ball, self.opponents, self.opponents_present)
+                         ball, self.opponents, self.opponents_present)
 
     def obstacles(self, exclude_self: bool = True) -> NDArray[np.float64]:
         """(M, 2) positions of every present player but oneself (to walk around)."""
@@ -123,11 +146,41 @@ class WorldModel:
             mates = mates[keep]
         return np.concatenate([mates, self.opponents[self.opponents_present]])
 
-    def predicted_ball(self, seconds: float, decel: float = 0.7) -> NDArray[np.float64]:
-        """Where the rolling ball will be after ``seconds`` (constant deceleration model)."""
-        speed = math.hypot(*self.ball_velocity)
-        if speed < 1e-6 or seconds <= 0:
-            return self.ball.copy()
-        t = min(seconds, speed / decel)
-        travel = speed * t - 0.5 * decel * t * t
-        return self.ball + self.ball_velocity / speed * travel
+    def ball_rest(self) -> NDArray[np.float64]:
+        """Where the ball will stop rolling (on a free pitch)."""
+        return self.roll.rest_point(self.ball, self.ball_velocity)
+
+    def intercepts(self, positions: NDArray[np.float64], speed_m_s: float,
+                   step_s: float = 0.1) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """For players at ``positions`` (M, 2) walking at ``speed_m_s``: the earliest time
+        (s) each can be at the rolling ball, and where. A ball at rest: its distance / speed."""
+        speed = math.hypot(self.ball_velocity[0], self.ball_velocity[1])
+        horizon = self.roll.stop_time(speed)
+        times = np.arange(0.0, horizon + step_s, step_s)
+        path = self.roll.positions(self.ball, self.ball_velocity, times)  # (T, 2)
+        gaps = np.hypot(positions[:, None, 0] - path[None, :, 0],
+                        positions[:, None, 1] - path[None, :, 1])  # (M, T)
+        reach = gaps / speed_m_s
+        ok = reach <= times[None, :]
+        first = np.where(ok.any(axis=1), ok.argmax(axis=1), len(times) - 1)
+        when = np.maximum(reach[np.arange(len(positions)), first], times[first])
+        return when, path[first]
+
+
+def _rounded(values: NDArray[np.floating]) -> NDArray[np.float64]:
+    r = BELIEF_RESOLUTION_M
+    return np.round(np.asarray(values, dtype=np.float64) / r) * r
+
+
+def shared(memo: dict | None, name: str, wm: WorldModel, compute: Callable[[], T]) -> T:
+    """``compute()``, cached in ``memo`` under ``name`` and the agent's beliefs: teammates
+    who believe the same compute a team-wide fact once. Callers must not modify the result."""
+    if memo is None or not wm.belief_key:
+        return compute()
+    key = (name, wm.belief_key)
+    hit = memo.get(key)
+    if hit is None:
+        if len(memo) >= 64:
+            memo.clear()
+        hit = memo[key] = compute()
+    return hit

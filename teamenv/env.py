@@ -181,7 +181,9 @@ class SoccerParallelEnv(ParallelEnv):
                                   observation_mode=observation_mode, seed=0,
                                   walk_low=tuple(float(v) for v in profile.command_low),
                                   walk_high=tuple(float(v) for v in profile.command_high),
-                                  kick_reach=float(profile.kick_reach))
+                                  kick_reach=float(profile.kick_reach),
+                                  ball_linear_drag=self.physics.ball_linear_drag,
+                                  ball_rolling_decel=self.physics.ball_rolling_decel)
             self.teams[side] = make_team(spec, context, config)
         self.team_agents = {side: [f"{side}_{k + 1}" for k in range(n)] for side in self.teams}
         self._team_agent_sets = {side: set(a) for side, a in self.team_agents.items()}

@@ -34,6 +34,9 @@ class TeamContext:
         seed: the seed of the first episode (each ``reset(seed)`` gives the episode's seed).
         walk_low, walk_high: the walk command range (vx, vy m/s, vturn rad/s) actions must obey.
         kick_reach: how close (m, body centre to ball centre) a player must be to kick.
+        ball_linear_drag, ball_rolling_decel: the rolling ball slows by
+            ``dv/dt = -ball_linear_drag * v - ball_rolling_decel`` (1/s, m/s²), so a team can
+            predict where it stops.
     """
 
     side: str
@@ -47,6 +50,8 @@ class TeamContext:
     walk_low: tuple[float, float, float] = (-1.0, -0.4, -1.5)
     walk_high: tuple[float, float, float] = (1.5, 0.4, 1.5)
     kick_reach: float = 0.35
+    ball_linear_drag: float = 0.4
+    ball_rolling_decel: float = 0.3
     extra: Mapping[str, Any] = field(default_factory=dict)
 
 

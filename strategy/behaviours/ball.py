@@ -48,6 +48,12 @@ def approach_ball(wm: WorldModel, aim: ArrayLike, skills: Skills,
                 and abs(heading_error) < skills.kick_max_angle)
     if lined_up:
         return ControlRequest(behaviour=behaviour), True
+    if dist > 0.3 and abs(wrap(aim_angle - math.atan2(to_ball[1], to_ball[0]))) < \
+            skills.kick_max_angle - 0.2:
+        # The aim can be kicked from the direction we come from: straight to the ball.
+        target = ball - to_ball / dist * (CONTACT_M - 0.04)
+        return go_to(wm, target, skills, face=ball, avoid=dist > 1.5,
+                     behaviour=behaviour), False
     if behind > 0.2 and lateral < 0.25 and dist < 0.9:
         # On the line behind the ball: step in, facing the aim.
         target = ball - u * (CONTACT_M - 0.04)

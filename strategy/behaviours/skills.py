@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
+from strategy.ballroll import BallRoll
 from strategy.navigation import NavigationParams
 from teamenv.field import FieldSpec
 
@@ -23,6 +24,7 @@ class Skills:
         kick_max_angle: kicks are aimed at most this far from the body's heading, radians (a
             humanoid kicks forwards; it does not kick behind itself).
         navigation: potential-field and walk-controller gains.
+        ball_roll: the ball's drag model (where a rolling ball stops).
     """
 
     field: FieldSpec
@@ -32,3 +34,4 @@ class Skills:
     kick_distance_m: float = 8.92
     kick_max_angle: float = 1.5
     navigation: NavigationParams = field(default_factory=NavigationParams)
+    ball_roll: BallRoll = field(default_factory=BallRoll)

@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from strategy.ballroll import BallRoll
 from strategy.behaviours.skills import Skills
 from strategy.formation.sized import team_formation
 from strategy.player import Player
@@ -41,14 +42,18 @@ class FullTeam:
         self.low = np.asarray(context.walk_low, dtype=np.float64)
         self.high = np.asarray(context.walk_high, dtype=np.float64)
         self.skills = Skills(context.field, self.low, self.high, kick_reach=context.kick_reach,
-                             navigation=self.config.navigation_params())
+                             kick_max_angle=self.config.kick_max_angle_rad,
+                             navigation=self.config.navigation_params(),
+                             ball_roll=BallRoll(context.ball_linear_drag,
+                                                context.ball_rolling_decel))
         formations = {kind: team_formation(getattr(self.config, key), context.team_size,
                                            context.field)
                       for kind, key in FORMATION_KEYS.items()}
         memo: dict = {}  # positioning results by exact inputs, shared (see PositioningAgent)
+        facts: dict = {}  # decision makers' team-wide facts by belief (see worldmodel.shared)
         self.players = {
             agent: Player(k, agent, context.side, self.config, formations, self.skills,
-                          context.channel, memo)
+                          context.channel, memo, facts)
             for k, agent in enumerate(context.agents)
         }
 

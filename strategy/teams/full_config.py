@@ -90,6 +90,12 @@ class FullTeamConfig:
     nav_k_repulse: float = -0.35
     nav_influence_m: float = 1.6
     nav_max_speed: float = 1.2
+    kick_max_angle_rad: float = 1.5
+    kick_possession_weight: float = 2.0
+    kick_progress_weight: float = 0.15
+    kick_goal_weight: float = 8.0
+    kick_min_margin_s: float = 1.0
+    ball_pull: float = 0.0
 
     def __post_init__(self) -> None:
         names = set(KINDS) | set(builtin_formation_names())

@@ -1,0 +1,62 @@
+"""Where a rolling ball goes: the pitch's drag model, solved in closed form.
+
+teamenv's ball slows by ``dv/dt = -linear_drag * v - rolling_decel`` (``PhysicsConfig``;
+the team is told both numbers in its ``TeamContext``), so where it stops and when can be
+computed instead of guessed. Players use it to run to where the ball will be, not where it is.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+MAX_ROLL_S = 20.0
+"""Horizon for a drag-free ball (both coefficients 0 never stops)."""
+
+
+@dataclass(frozen=True)
+class BallRoll:
+    """The ball's rolling drag: ``linear_drag`` (1/s) and ``rolling_decel`` (m/s²)."""
+
+    linear_drag: float = 0.4
+    rolling_decel: float = 0.3
+
+    def stop_time(self, speed: float) -> float:
+        """Seconds until a ball rolling at ``speed`` m/s stops."""
+        a, c = self.linear_drag, self.rolling_decel
+        if speed <= 0.0:
+            return 0.0
+        if a > 1e-9 and c > 1e-9:
+            return min(MAX_ROLL_S, math.log1p(speed * a / c) / a)
+        if c > 1e-9:
+            return min(MAX_ROLL_S, speed / c)
+        return MAX_ROLL_S
+
+    def travel(self, speed: float, seconds: float | NDArray[np.float64]):
+        """Distance rolled after ``seconds`` (scalar or array) from ``speed`` m/s."""
+        t = np.minimum(np.asarray(seconds, dtype=np.float64), self.stop_time(speed))
+        a, c = self.linear_drag, self.rolling_decel
+        if a > 1e-9:
+            v_inf = c / a
+            return (speed + v_inf) * (1.0 - np.exp(-a * t)) / a - v_inf * t
+        return speed * t - 0.5 * c * t * t
+
+    def positions(self, ball: NDArray[np.float64], velocity: NDArray[np.float64],
+                  times: NDArray[np.float64]) -> NDArray[np.float64]:
+        """(len(times), 2) ball positions at each time (seconds from now)."""
+        speed = math.hypot(velocity[0], velocity[1])
+        if speed < 1e-6:
+            return np.broadcast_to(ball, (len(times), 2)).copy()
+        direction = velocity / speed
+        return ball + np.outer(self.travel(speed, times), direction)
+
+    def rest_point(self, ball: NDArray[np.float64],
+                   velocity: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Where the ball stops (on a free pitch)."""
+        speed = math.hypot(velocity[0], velocity[1])
+        if speed < 1e-6:
+            return np.array(ball, dtype=np.float64)
+        return ball + velocity / speed * float(self.travel(speed, self.stop_time(speed)))
