@@ -16,17 +16,12 @@ import numpy as np
 from strategy.behaviours import (
     Skills,
     beam_to,
-    choose_pass,
-    clear_ball,
     dribble,
     goalie_clear,
     goalie_position,
     goalie_target,
     hold_position,
     kick_to,
-    pass_to,
-    shoot,
-    shot_target,
 )
 from strategy.behaviours.ball import in_kick_reach
 from strategy.behaviours.kick_choice import best_kick
@@ -37,7 +32,6 @@ from strategy.positioning import PositioningDecision
 from strategy.setplays import Situation, keep_distance, set_play_taker, situation, take_set_play
 from strategy.teams.full_config import FullTeamConfig
 from strategy.worldmodel import WorldModel, shared
-
 
 MOVING_BALL_M_S = 1.0
 """Faster than this the ball is rolling (a kick), not being pushed in a dribble: players are

@@ -21,6 +21,7 @@ from strategy.setplays import Situation, situation, we_kick_off_next
 from strategy.teams.full_config import FullTeamConfig
 from strategy.worldmodel import WorldModel, shared
 
+
 class Player:
     """The brain of agent ``name`` (player index ``me``).
 

@@ -18,11 +18,10 @@ from numpy.typing import NDArray
 
 from strategy.ballroll import BallRoll
 from strategy.positioning import WorldView, heard_texts
+from teamenv import PlayMode
 from teamenv.errors import TeamEnvError
 from teamenv.field import FieldSpec
 from teamenv.observation import team_frame
-from teamenv import PlayMode
-
 
 T = TypeVar("T")
 

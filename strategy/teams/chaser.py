@@ -5,13 +5,14 @@ A template for a first team: decisions use only each agent's own observation.
 
 from __future__ import annotations
 
-from typing import Any, Mapping
+from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 
 from strategy.teams.common import kick_toward, walk_to
-from teamenv.observation import team_frame
 from teamenv import PlayMode
+from teamenv.observation import team_frame
 from teamenv.teams import TeamContext
 
 OWN_KICKABLE = {"PlayOn", "KickOff_Left", "KickIn_Left", "CornerKick_Left", "GoalKick_Left"}

@@ -30,16 +30,23 @@ class FullTeamConfig:
     Marking (``strategy.marking``, seed 000 §5.4):
         marking: mark dangerous opponents. mark_shoot_range_m, mark_min_ball_distance_m,
         mark_max_behind_ball_m, mark_distance_m, max_markers: its thresholds.
-    Playing the ball:
-        shoot_range_m: shoot when the ball is this close to the opponents' goal.
-        advance_kick_clearance_m: with no opponent this close to the ball, kick it far
-            towards their goal instead of dribbling (0 = never; a kick takes the body 1.5 s).
-        pass_min_gain_m: pass only to a teammate this much closer to their goal than the ball.
-        pass_max_m: longest pass. pass_lane_m: no opponent this close to the pass line.
-        receiver_free_m: no opponent this close to the receiver.
-        pressure_m: an opponent this close to the ball puts the ball player under pressure
-            (then it passes, clears or kicks long instead of dribbling).
-        clear_zone_m: under pressure within this distance of our goal line, clear the ball.
+    Playing the ball (``strategy.behaviours.kick_choice.best_kick``: every kick is scored by
+    the race to where the ball stops, the ground it gains and its chance of a goal):
+        kick_possession_weight: value of winning the race to the landing point (tanh of
+            the margin in seconds / 2, times this).
+        kick_progress_weight: value of each metre the ball moves towards their goal.
+        kick_goal_weight: value of a goal, times the kick's chance of scoring (the shoot
+            threshold: a shot is taken when its chance times this beats every pass).
+        kick_min_margin_s: kick (pass) only when a teammate wins the race by this many
+            seconds; otherwise dribble (unless under pressure or shooting).
+        kick_max_angle_rad: kicks are aimed at most this far from the body's heading (the
+            env's kick is omnidirectional: about pi; 1.5 = a forward-kicking humanoid, who
+            must walk round the ball first).
+        pressure_m: an opponent this close to the ball leaves no time to dribble: kick.
+        ball_pull: in play, formation positions move this fraction of the way towards
+            where the ball will stop (0 = the formation alone).
+        pass_max_m, pass_lane_m: at our kick-ins and kick-offs, the longest pass and the
+            distance an opponent must keep from its line.
         dribble_speed: walking speed while pushing the ball, m/s.
         ball_player_hysteresis_m: the current ball player keeps the ball unless a teammate
             is this much closer (stops two players swapping every cycle).
@@ -71,14 +78,9 @@ class FullTeamConfig:
     mark_max_behind_ball_m: float = 3.0
     mark_distance_m: float = 1.5
     max_markers: int = 2
-    shoot_range_m: float = 12.0
-    advance_kick_clearance_m: float = 2.5
-    pass_min_gain_m: float = 3.0
     pass_max_m: float = 9.0
     pass_lane_m: float = 1.0
-    receiver_free_m: float = 1.5
     pressure_m: float = 2.0
-    clear_zone_m: float = 6.0
     dribble_speed: float = 0.9
     ball_player_hysteresis_m: float = 0.5
     cover_m: float = 3.0
@@ -90,12 +92,12 @@ class FullTeamConfig:
     nav_k_repulse: float = -0.35
     nav_influence_m: float = 1.6
     nav_max_speed: float = 1.2
-    kick_max_angle_rad: float = 1.5
+    kick_max_angle_rad: float = 3.1
     kick_possession_weight: float = 2.0
     kick_progress_weight: float = 0.15
-    kick_goal_weight: float = 8.0
+    kick_goal_weight: float = 25.0
     kick_min_margin_s: float = 1.0
-    ball_pull: float = 0.0
+    ball_pull: float = 0.3
 
     def __post_init__(self) -> None:
         names = set(KINDS) | set(builtin_formation_names())
@@ -122,6 +124,12 @@ class FullTeamConfig:
                     not math.isfinite(value) or value < 0:
                 raise ConfigError(f"full team config: {f.name} must be a finite number >= 0, "
                                   f"got {value!r}")
+        if not 0 < self.kick_max_angle_rad <= math.pi:
+            raise ConfigError(f"full team config: kick_max_angle_rad must be in (0, pi], got "
+                              f"{self.kick_max_angle_rad!r}")
+        if self.ball_pull > 1:
+            raise ConfigError(f"full team config: ball_pull must be in [0, 1], got "
+                              f"{self.ball_pull!r}")
 
     @classmethod
     def from_overrides(cls, team: str, overrides: dict) -> FullTeamConfig:

@@ -9,7 +9,6 @@ import math
 import numpy as np
 import pytest
 
-import comms
 import teamenv
 from comms.testing import assert_fits
 from strategy.roles.message import decode_role_vote, role_vote_schema
@@ -79,13 +78,13 @@ def test_plays_any_team_size_on_any_pitch(field, n):
 # -- config ----------------------------------------------------------------------------------------
 def test_config_rejects_unknown_keys_listing_the_known_ones():
     with pytest.raises(ConfigError) as info:
-        FullTeamConfig.from_overrides("full", {"shoot_rang_m": 6.0})
+        FullTeamConfig.from_overrides("full", {"kick_goal_weigth": 6.0})
     msg = str(info.value)
-    assert "shoot_rang_m" in msg and "shoot_range_m" in msg and "pass_max_m" in msg
+    assert "kick_goal_weigth" in msg and "kick_goal_weight" in msg and "pass_max_m" in msg
 
 
 @pytest.mark.parametrize("key,value", [
-    ("shoot_range_m", -1.0), ("shoot_range_m", math.nan), ("pass_max_m", math.inf),
+    ("kick_goal_weight", -1.0), ("kick_goal_weight", math.nan), ("kick_max_angle_rad", 4.0), ("ball_pull", 1.5), ("pass_max_m", math.inf),
     ("pass_max_m", "9"), ("dribble_speed", True), ("communicate", 1), ("marking", "yes"),
     ("say_every", 0), ("max_markers", 1.5), ("max_markers", -1), ("nav_k_repulse", 0.35),
     ("nav_k_repulse", 0.0), ("formation_attack", "4-4-2"), ("set_play_clearance_m", -2.0),
@@ -97,11 +96,11 @@ def test_config_rejects_bad_values_naming_field_and_value(key, value):
 
 
 def test_config_accepts_good_overrides_and_is_frozen():
-    c = FullTeamConfig.from_overrides("full", {"shoot_range_m": 6, "communicate": False,
+    c = FullTeamConfig.from_overrides("full", {"kick_goal_weight": 6, "communicate": False,
                                                "formation_attack": "7v7-attack"})
-    assert c.shoot_range_m == 6 and c.communicate is False
+    assert c.kick_goal_weight == 6 and c.communicate is False
     with pytest.raises(dataclasses.FrozenInstanceError):
-        c.shoot_range_m = 1.0  # type: ignore[misc]
+        c.kick_goal_weight = 1.0  # type: ignore[misc]
     assert c.navigation_params().k_repulse == c.nav_k_repulse < 0
     assert FullTeamConfig(marking=False).marking_params() is None
 

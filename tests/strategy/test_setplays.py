@@ -19,7 +19,6 @@ from strategy.setplays import (
     we_kick_off_next,
 )
 from teamenv import PlayMode
-from teamenv.field import field_preset
 from tests.strategy import scenes
 
 #: Cycles a body needs to stop from the team's top speed (accel limit + one step period):
