@@ -168,7 +168,7 @@ class WorldModel:
 
 def _rounded(values: NDArray[np.floating]) -> NDArray[np.float64]:
     r = BELIEF_RESOLUTION_M
-    return np.round(np.asarray(values, dtype=np.float64) / r) * r
+    return np.round(np.asarray(values, dtype=np.float64) / r) * r + 0.0  # + 0.0: no -0.0
 
 
 def shared(memo: dict | None, name: str, wm: WorldModel, compute: Callable[[], T]) -> T:

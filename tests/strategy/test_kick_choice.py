@@ -1,0 +1,105 @@
+"""The ball-roll prediction, interception and the kick evaluator (best_kick) in hand-built
+scenes, and the roll model against the env's own ball."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from strategy.ballroll import BallRoll
+from strategy.behaviours.kick_choice import best_kick, goal_probability
+from teamenv.config import PhysicsConfig
+from teamenv.sim.world import roll_distance
+
+from .scenes import world
+
+ROLL = BallRoll(PhysicsConfig().ball_linear_drag, PhysicsConfig().ball_rolling_decel)
+
+
+@pytest.mark.parametrize("speed", [0.5, 2.0, 5.0, 9.0, 12.0])
+def test_rest_point_matches_the_env_ball_within_one_percent(speed):
+    # roll_distance steps the env's per-cycle drag; the closed form is its continuous limit
+    expected = roll_distance(speed, PhysicsConfig())
+    got = float(ROLL.travel(speed, ROLL.stop_time(speed)))
+    assert got == pytest.approx(expected, rel=0.01, abs=0.02)
+
+
+@settings(max_examples=60, deadline=None)
+@given(speed=st.floats(0.1, 12.0), t1=st.floats(0.0, 10.0), t2=st.floats(0.0, 10.0))
+def test_travel_never_goes_back_and_stops_at_rest(speed, t1, t2):
+    lo, hi = sorted((t1, t2))
+    assert float(ROLL.travel(speed, lo)) <= float(ROLL.travel(speed, hi)) + 1e-12
+    stop = ROLL.stop_time(speed)
+    assert float(ROLL.travel(speed, stop + 5.0)) == pytest.approx(float(ROLL.travel(speed, stop)))
+
+
+def test_drag_free_models_stop_or_cap():
+    assert BallRoll(0.0, 0.5).stop_time(2.0) == pytest.approx(4.0)
+    assert BallRoll(0.0, 0.5).rest_point(np.zeros(2), np.array([2.0, 0.0]))[0] == \
+        pytest.approx(4.0)
+    assert BallRoll(0.0, 0.0).stop_time(1.0) == 20.0
+
+
+def test_intercept_meets_a_ball_rolling_towards_the_player_before_it_passes():
+    wm = world(position=(5.0, 0.0), ball=(0.0, 0.0), ball_velocity=(4.0, 0.0))
+    when, where = wm.intercepts(np.array([[5.0, 0.0], [-5.0, 0.0]]), 1.2)
+    assert where[0, 0] < 5.0 and when[0] < 1.5  # meets it on the way
+    assert where[1, 0] == pytest.approx(wm.ball_rest()[0])  # the one behind waits for it
+    assert when[1] > when[0]
+
+
+def test_best_kick_passes_to_the_free_teammate_not_into_the_opponents():
+    # free teammate up the left wing, opponents crowding the straight line to goal
+    wm = world(position=(-0.3, 0.0), ball=(0.0, 0.0), teammates=[(6.0, 6.0)],
+               opponents=[(7.0, 0.0), (7.5, -1.0), (6.5, 1.0)], field="mj7v7")
+    choice = best_kick(wm, 1.2, 2.0, 0.15, 25.0)
+    assert choice.margin_s > 1.0
+    assert choice.target[1] > 2.0  # towards the free wing, not at the crowd
+    assert not choice.shot
+
+
+def test_best_kick_shoots_from_close_range_in_front_of_an_open_goal():
+    wm = world(position=(20.0, 0.0), ball=(20.3, 0.0), teammates=[(10.0, 5.0)],
+               opponents=[(0.0, 0.0)], field="mj7v7")
+    choice = best_kick(wm, 1.2, 2.0, 0.15, 25.0)
+    assert choice.shot and choice.target[0] > wm.field.half_length
+
+
+def test_goal_probability_falls_with_distance_and_angle():
+    near = world(ball=(22.0, 0.0), field="mj7v7")
+    far = world(ball=(12.0, 0.0), field="mj7v7")
+    wide = world(ball=(22.0, 12.0), field="mj7v7")
+    goal = near.opponent_goal + np.array([1.0, 0.0])
+    p_near = goal_probability(near, goal, 1.0)
+    assert p_near > goal_probability(far, goal, 1.0) > 0.0
+    assert p_near > goal_probability(wide, goal, 1.0)
+    assert 0.0 <= p_near <= 1.0
+    behind = world(ball=(28.0, 0.0), field="mj7v7")
+    assert goal_probability(behind, goal, 1.0) == 0.0
+
+
+def test_best_kick_never_aims_off_the_pitch():
+    for y in (-15.0, 15.0):
+        wm = world(position=(0.0, y - 0.3 * math.copysign(1, y)), ball=(0.0, y),
+                   opponents=[(2.0, y)], field="mj7v7")
+        choice = best_kick(wm, 1.2, 2.0, 0.15, 25.0)
+        assert abs(choice.target[1]) <= wm.field.half_width - 0.5
+
+
+def test_teammates_in_state_mode_share_one_belief_key():
+    # beliefs are rounded at perception, so every agent of a team believes the same pitch
+    from strategy.worldmodel import WorldModel
+
+    from .scenes import make_env
+
+    env, obs = make_env(field="mj7v7", team_size=7)
+    for _ in range(30):
+        obs, *_ = env.step({a: {"walk": np.array([0.5, 0.0, 0.2])} for a in env.agents})
+    left = [a for a in env.agents if a.startswith("left")]
+    models = [WorldModel.from_observation(obs[a], k, env.field, a) for k, a in enumerate(left)]
+    assert len({m.belief_key for m in models}) == 1
+    assert all(np.array_equal(m.teammates, models[0].teammates) for m in models)
