@@ -112,13 +112,21 @@ class FieldPlayerDecisionMaker:
     def choose_ball_player(self, wm: WorldModel) -> int:
         """The upright teammate who can be at the ball first (the goalie only if nobody else
         is upright); the previous ball player keeps it unless beaten by the hysteresis margin."""
-        d = self.ball_reach(wm)
-        if self.goalie is not None and np.isfinite(np.delete(d, self.goalie)).any():
-            d[self.goalie] = np.inf
+        d = shared(self.facts, "field_reach", wm, lambda: self._field_reach(wm))
         prev = self.ball_player
-        if prev is not None and np.isfinite(d[prev]):
+        if prev is not None and math.isfinite(d[prev]):
+            d = d.copy()
             d[prev] -= self.config.ball_player_hysteresis_m
         return int(np.argmin(d))
+
+    def _field_reach(self, wm: WorldModel) -> np.ndarray:
+        d = self.ball_reach(wm)
+        if self.goalie is not None:
+            others = np.isfinite(d)
+            others[self.goalie] = False
+            if others.any():
+                d[self.goalie] = np.inf
+        return d
 
     def ball_reach(self, wm: WorldModel) -> np.ndarray:
         """(N,) how far each teammate must walk to meet the ball (at rest: its distance;
@@ -163,7 +171,7 @@ class FieldPlayerDecisionMaker:
             if wm.distance(points[0]) > 0.5:
                 return go_to(wm, points[0], self.skills, face=wm.ball, behaviour="intercept")
         choice = best_kick(wm, c.nav_max_speed, c.kick_possession_weight, c.kick_progress_weight,
-                           c.kick_goal_weight,
+                           c.kick_goal_weight, c.kick_follow_up,
                            exclude=() if self.goalie is None else (self.goalie,))
         opps = wm.opponents[wm.opponents_present & ~wm.opponents_fallen]
         clearance = float(np.min(np.hypot(*(opps - wm.ball).T))) if len(opps) else math.inf

@@ -90,17 +90,20 @@ class WorldModel:
         if not (math.isfinite(v.position[0] + v.position[1] + v.ball[0] + v.ball[1])):
             raise WorldModelError(f"{agent or f'player {me}'}: observation 'self'/'ball' is not "
                                   f"finite: position={v.position.tolist()}, ball={v.ball.tolist()}")
-        position = _rounded(v.position)
-        ball, ball_velocity = _rounded(v.ball), _rounded(v.ball_velocity)
-        mates = _rounded(v.teammates)
+        n = len(v.teammates)
+        # one rounding pass over everything: rows 0..n-1 teammates, n..2n-1 opponents, then
+        # own position, ball, ball velocity
+        flat = _rounded(np.concatenate((v.teammates, v.opponents,
+                                        (v.position, v.ball, v.ball_velocity))))
+        mates, opponents = flat[:n], flat[n:2 * n]
+        position, ball, ball_velocity = flat[2 * n], flat[2 * n + 1], flat[2 * n + 2]
         mates[me] = position
         present = v.teammates_present.copy()
         present[me] = True
         mates_fallen = v.teammates_fallen.copy()
         mates_fallen[me] = v.fallen
-        opponents = _rounded(v.opponents)
-        key = b"".join((ball.tobytes(), ball_velocity.tobytes(), mates.tobytes(),
-                        present.tobytes(), mates_fallen.tobytes(), opponents.tobytes(),
+        key = b"".join((flat[:2 * n].tobytes(), flat[2 * n + 1:].tobytes(),
+                        present.tobytes(), mates_fallen.tobytes(),
                         v.opponents_present.tobytes(), v.opponents_fallen.tobytes(),
                         int(v.play_mode).to_bytes(2, "little")))
         return cls(me, position, v.heading, v.velocity, v.fallen, ball, ball_velocity,

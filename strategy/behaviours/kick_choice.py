@@ -6,12 +6,14 @@ has the ball next. ``best_kick`` scores candidate landing points (a fan of direc
 powers, plus shots at the goal mouth) by
 
     value = possession_weight * tanh(margin / 2) + progress_weight * forward gain
-            + goal_weight * P(goal)
+            + goal_weight * P(goal)                               (a shot)
+            + goal_weight * follow_up * P(we win) * P(goal from there)   (any other kick)
 
 where ``margin`` (s) is how much sooner our nearest teammate than their nearest player can
 reach the landing point (the kicker stands for the kick's duration first), and ``P(goal)`` is
-the chance the kick's distance and aim spread put the ball inside the goal mouth. A lane an
-opponent stands in gives the ball to them.
+the chance the kick's distance and aim spread put the ball inside the goal mouth; a pass is
+also worth part (``follow_up``) of the shot its receiver can take next. A lane an opponent
+stands in gives the ball to them.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.special import ndtr
 
 from strategy.worldmodel import WorldModel
 
@@ -86,27 +89,28 @@ def _lane_blocked(ball: NDArray[np.float64], ends: NDArray[np.float64],
 def goal_probability(wm: WorldModel, aim: NDArray[np.float64], power: float) -> float:
     """Chance a kick from the ball at ``aim`` with ``power`` ends in the goal: the aim error
     must keep it inside the posts and the distance must carry it over the line."""
-    f = wm.field
-    dx = f.half_length - wm.ball[0]
-    if dx <= 0:
-        return 0.0
-    to_aim = math.atan2(aim[1] - wm.ball[1], aim[0] - wm.ball[0])
-    low = math.atan2(-f.half_goal_width + 0.15 - wm.ball[1], dx)
-    high = math.atan2(f.half_goal_width - 0.15 - wm.ball[1], dx)
-    if high <= low:
-        return 0.0
-    p_aim = _normal_cdf((high - to_aim) / AIM_SIGMA_RAD) - _normal_cdf((low - to_aim) / AIM_SIGMA_RAD)
-    needed = math.hypot(dx, wm.ball[1]) / max(power, 1e-6)
-    p_far = 1.0 - _normal_cdf((needed - KICK_MEAN_M) / KICK_SD_M)
-    return max(0.0, p_aim) * p_far
+    return float(goal_chances(wm.field.half_length, wm.field.half_goal_width,
+                              wm.ball[None, :], np.asarray(aim, dtype=np.float64)[None, :],
+                              np.array([power]))[0])
 
 
-def _normal_cdf(z: float) -> float:
-    return 0.5 * (1.0 + math.erf(z / math.sqrt(2.0)))
+def goal_chances(half_length: float, half_goal_width: float, balls: NDArray[np.float64],
+                 aims: NDArray[np.float64], powers: NDArray[np.float64]) -> NDArray[np.float64]:
+    """(P,) ``goal_probability`` for kicks from ``balls`` (P, 2) at ``aims`` (P, 2)."""
+    dx = half_length - balls[:, 0]
+    ahead = dx > 0
+    dx = np.where(ahead, dx, 1.0)
+    to_aim = np.arctan2(aims[:, 1] - balls[:, 1], aims[:, 0] - balls[:, 0])
+    low = np.arctan2(-half_goal_width + 0.15 - balls[:, 1], dx)
+    high = np.arctan2(half_goal_width - 0.15 - balls[:, 1], dx)
+    p_aim = ndtr((high - to_aim) / AIM_SIGMA_RAD) - ndtr((low - to_aim) / AIM_SIGMA_RAD)
+    needed = np.hypot(dx, balls[:, 1]) / np.maximum(powers, 1e-6)
+    p_far = ndtr((KICK_MEAN_M - needed) / KICK_SD_M)
+    return np.where(ahead & (high > low), np.maximum(p_aim, 0.0) * p_far, 0.0)
 
 
 def best_kick(wm: WorldModel, walk_speed: float, possession_weight: float,
-              progress_weight: float, goal_weight: float,
+              progress_weight: float, goal_weight: float, follow_up: float = 0.0,
               exclude: tuple[int, ...] = ()) -> KickChoice:
     """The most valuable kick from where the ball is (see the module doc)."""
     f = wm.field
@@ -147,10 +151,14 @@ def best_kick(wm: WorldModel, walk_speed: float, possession_weight: float,
     margin = np.where(blocked, -3.0, margin)
     value = possession_weight * np.tanh(margin / 2.0) \
         + progress_weight * (landing[:, 0] - ball[0])
-    for k in np.flatnonzero(is_shot):
-        # a shot through a crowd still has its chance (deflections): halved, not lost
-        p_goal = goal_probability(wm, end[k], power_arr[k]) * (0.5 if blocked[k] else 1.0)
-        value[k] += goal_weight * p_goal
+    # a shot through a crowd still has its chance (deflections): halved, not lost
+    p_goal = goal_chances(f.half_length, f.half_goal_width, np.broadcast_to(ball, end.shape),
+                          end, power_arr) * np.where(blocked, 0.5, 1.0)
+    # a pass is worth the shot the receiver can take from where it wins the ball
+    win = 0.5 * (1.0 + np.tanh(margin / 2.0))
+    follow = goal_chances(f.half_length, f.half_goal_width, landing,
+                          np.broadcast_to(goal, end.shape), np.ones(len(end)))
+    value += goal_weight * np.where(is_shot, p_goal, follow_up * win * follow)
     value = np.where(on_pitch | is_shot, value, -np.inf)
     k = int(np.argmax(value))
     return KickChoice(end[k], float(power_arr[k]), float(value[k]), float(margin[k]),

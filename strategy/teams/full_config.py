@@ -37,6 +37,8 @@ class FullTeamConfig:
         kick_progress_weight: value of each metre the ball moves towards their goal.
         kick_goal_weight: value of a goal, times the kick's chance of scoring (the shoot
             threshold: a shot is taken when its chance times this beats every pass).
+        kick_follow_up: a pass is also worth this fraction of the goal chance of a shot
+            from where its receiver wins the ball.
         kick_min_margin_s: kick (pass) only when a teammate wins the race by this many
             seconds; otherwise dribble (unless under pressure or shooting).
         kick_max_angle_rad: kicks are aimed at most this far from the body's heading (the
@@ -97,7 +99,8 @@ class FullTeamConfig:
     kick_progress_weight: float = 0.15
     kick_goal_weight: float = 25.0
     kick_min_margin_s: float = 1.0
-    ball_pull: float = 0.3
+    kick_follow_up: float = 0.5
+    ball_pull: float = 0.5
 
     def __post_init__(self) -> None:
         names = set(KINDS) | set(builtin_formation_names())
