@@ -149,8 +149,12 @@ class WorldModel:
         return np.concatenate([mates, self.opponents[self.opponents_present]])
 
     def ball_rest(self) -> NDArray[np.float64]:
-        """Where the ball will stop rolling (on a free pitch)."""
-        return self.roll.rest_point(self.ball, self.ball_velocity)
+        """Where the ball will stop rolling (on a free pitch). Do not modify the result."""
+        rest = self.__dict__.get("_ball_rest")
+        if rest is None:  # computed once per world model (frozen: bypass __setattr__)
+            rest = self.__dict__["_ball_rest"] = self.roll.rest_point(self.ball,
+                                                                      self.ball_velocity)
+        return rest
 
     def intercepts(self, positions: NDArray[np.float64], speed_m_s: float,
                    step_s: float = 0.1) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
