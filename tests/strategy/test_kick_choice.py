@@ -103,3 +103,16 @@ def test_teammates_in_state_mode_share_one_belief_key():
     models = [WorldModel.from_observation(obs[a], k, env.field, a) for k, a in enumerate(left)]
     assert len({m.belief_key for m in models}) == 1
     assert all(np.array_equal(m.teammates, models[0].teammates) for m in models)
+
+
+def test_the_full_team_predicts_with_the_env_drag_it_is_told():
+    # a stickier pitch: the team's roll model is the env's, not a default
+    import teamenv
+
+    env = teamenv.parallel_env(field="mj7v7", team_size=3, left="full",
+                               physics={"ball_linear_drag": 0.9, "ball_rolling_decel": 0.6})
+    env.reset(seed=0)
+    roll = env.teams["left"].skills.ball_roll
+    assert (roll.linear_drag, roll.rolling_decel) == (0.9, 0.6)
+    expected = roll_distance(5.0, PhysicsConfig(ball_linear_drag=0.9, ball_rolling_decel=0.6))
+    assert float(roll.travel(5.0, roll.stop_time(5.0))) == pytest.approx(expected, rel=0.02)
