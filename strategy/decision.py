@@ -27,7 +27,6 @@ from strategy.behaviours.ball import in_kick_reach
 from strategy.behaviours.kick_choice import best_kick
 from strategy.behaviours.motion import detour, go_to
 from strategy.control import ControlRequest
-from strategy.navigation import wrap
 from strategy.positioning import PositioningDecision
 from strategy.setplays import Situation, keep_distance, set_play_taker, situation, take_set_play
 from strategy.teams.full_config import FullTeamConfig
@@ -179,11 +178,6 @@ class FieldPlayerDecisionMaker:
         if choice.shot or clearance < c.pressure_m or choice.margin_s >= c.kick_min_margin_s:
             return kick_to(wm, choice.target, self.skills, power=choice.power, behaviour=name)
         return dribble(wm, wm.opponent_goal, self.skills, speed=c.dribble_speed)
-
-    @staticmethod
-    def _aims_at(wm: WorldModel, request: ControlRequest, target: np.ndarray) -> bool:
-        want = math.atan2(target[1] - wm.ball[1], target[0] - wm.ball[0])
-        return abs(wrap(wm.heading + request.kick[1] - want)) < 0.05
 
 
 class GoalieDecisionMaker:
