@@ -34,7 +34,7 @@ class ControlRequest:
     behaviour: str = "idle"
 
     def with_say(self, text: str) -> ControlRequest:
-        return replace(self, say=text)
+        return ControlRequest(self.walk, self.kick, self.beam, text, self.behaviour)
 
     def named(self, behaviour: str) -> ControlRequest:
         """The same request, credited to ``behaviour``."""

@@ -143,6 +143,10 @@ class FieldPlayerDecisionMaker:
     def supporter(self, wm: WorldModel) -> int | None:
         """The upright field player closest to the ball after the ball player (None if
         there is none)."""
+        return shared(self.facts, ("supporter", self.ball_player), wm,
+                      lambda: self._supporter(wm))
+
+    def _supporter(self, wm: WorldModel) -> int | None:
         d = self.ball_reach(wm)
         for k in (self.goalie, self.ball_player):
             if k is not None:

@@ -9,7 +9,7 @@ another agent's observation: a team's agents share no state.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Hashable, Mapping
 from dataclasses import dataclass
 from typing import Any, TypeVar
 
@@ -106,10 +106,12 @@ class WorldModel:
                         present.tobytes(), mates_fallen.tobytes(),
                         v.opponents_present.tobytes(), v.opponents_fallen.tobytes(),
                         int(v.play_mode).to_bytes(2, "little")))
-        return cls(me, position, v.heading, v.velocity, v.fallen, ball, ball_velocity,
-                   mates, present, mates_fallen, opponents, v.opponents_present,
-                   v.opponents_fallen, v.play_mode, v.time_s, v.half, v.score,
-                   tuple(heard_texts(obs)), field, roll or BallRoll(), key)
+        wm = cls(me, position, v.heading, v.velocity, v.fallen, ball, ball_velocity,
+                 mates, present, mates_fallen, opponents, v.opponents_present,
+                 v.opponents_fallen, v.play_mode, v.time_s, v.half, v.score,
+                 tuple(heard_texts(obs)), field, roll or BallRoll(), key)
+        wm.__dict__["_players"] = flat[:2 * n]  # the same rows, contiguous (for obstacles)
+        return wm
 
     # -- derived beliefs -------------------------------------------------------------------
     @property
@@ -142,11 +144,13 @@ class WorldModel:
 
     def obstacles(self, exclude_self: bool = True) -> NDArray[np.float64]:
         """(M, 2) positions of every present player but oneself (to walk around)."""
-        mates = self.teammates[self.teammates_present]
+        mask = np.concatenate((self.teammates_present, self.opponents_present))
         if exclude_self:
-            keep = np.flatnonzero(self.teammates_present) != self.me
-            mates = mates[keep]
-        return np.concatenate([mates, self.opponents[self.opponents_present]])
+            mask[self.me] = False
+        both = self.__dict__.get("_players")  # teammates then opponents, set by perception
+        if both is None:
+            both = np.concatenate((self.teammates, self.opponents))
+        return both[mask]
 
     def ball_rest(self) -> NDArray[np.float64]:
         """Where the ball will stop rolling (on a free pitch). Do not modify the result."""
@@ -178,14 +182,17 @@ def _rounded(values: NDArray[np.floating]) -> NDArray[np.float64]:
     return np.round(np.asarray(values, dtype=np.float64) / r) * r + 0.0  # + 0.0: no -0.0
 
 
-def shared(memo: dict | None, name: str, wm: WorldModel, compute: Callable[[], T]) -> T:
+_MISSING = object()
+
+
+def shared(memo: dict | None, name: Hashable, wm: WorldModel, compute: Callable[[], T]) -> T:
     """``compute()``, cached in ``memo`` under ``name`` and the agent's beliefs: teammates
     who believe the same compute a team-wide fact once. Callers must not modify the result."""
     if memo is None or not wm.belief_key:
         return compute()
     key = (name, wm.belief_key)
-    hit = memo.get(key)
-    if hit is None:
+    hit = memo.get(key, _MISSING)
+    if hit is _MISSING:
         if len(memo) >= 64:
             memo.clear()
         hit = memo[key] = compute()
