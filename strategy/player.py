@@ -10,8 +10,6 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-import numpy as np
-
 from strategy.behaviours.skills import Skills
 from strategy.control import ControlRequest
 from strategy.decision import FieldPlayerDecisionMaker, GoalieDecisionMaker
@@ -85,7 +83,7 @@ class Player:
         if now is Situation.THEIR_SET_PLAY:
             return self.formations["setplay-theirs"]
         if self.config.switch_formations and shared(self.facts, "control", wm,
-                                                        lambda: _we_control_ball(wm)):
+                                                        wm.we_control_ball):
             return self.formations["attack"]
         return self.formations["defend"]
 
@@ -100,13 +98,3 @@ class Player:
             request = request.with_say(decision.say)
         self.last_request = request
         return request
-
-
-def _we_control_ball(wm: WorldModel) -> bool:
-    """Our closest upright player is nearer the ball than theirs (or the ball is in their half
-    and nobody of theirs is close)."""
-    ours = wm.teammates_present & ~wm.teammates_fallen
-    theirs = wm.opponents_present & ~wm.opponents_fallen
-    d_ours = np.hypot(*(wm.teammates[ours] - wm.ball).T).min() if ours.any() else np.inf
-    d_theirs = np.hypot(*(wm.opponents[theirs] - wm.ball).T).min() if theirs.any() else np.inf
-    return bool(d_ours < d_theirs - 0.3 or (wm.ball[0] > 0 and d_theirs > 3.0))

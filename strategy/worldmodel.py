@@ -152,6 +152,16 @@ class WorldModel:
             both = np.concatenate((self.teammates, self.opponents))
         return both[mask]
 
+    def we_control_ball(self) -> bool:
+        """Our closest upright player is nearer the ball than theirs (or the ball is in their
+        half and nobody of theirs is close)."""
+        ours = self.teammates_present & ~self.teammates_fallen
+        theirs = self.opponents_present & ~self.opponents_fallen
+        d_ours = np.hypot(*(self.teammates[ours] - self.ball).T).min() if ours.any() else np.inf
+        d_theirs = np.hypot(*(self.opponents[theirs] - self.ball).T).min() if theirs.any() \
+            else np.inf
+        return bool(d_ours < d_theirs - 0.3 or (self.ball[0] > 0 and d_theirs > 3.0))
+
     def ball_rest(self) -> NDArray[np.float64]:
         """Where the ball will stop rolling (on a free pitch). Do not modify the result."""
         rest = self.__dict__.get("_ball_rest")
