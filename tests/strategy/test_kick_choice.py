@@ -90,21 +90,6 @@ def test_best_kick_never_aims_off_the_pitch():
         assert abs(choice.target[1]) <= wm.field.half_width - 0.5
 
 
-def test_teammates_in_state_mode_share_one_belief_key():
-    # beliefs are rounded at perception, so every agent of a team believes the same pitch
-    from strategy.worldmodel import WorldModel
-
-    from .scenes import make_env
-
-    env, obs = make_env(field="mj7v7", team_size=7)
-    for _ in range(30):
-        obs, *_ = env.step({a: {"walk": np.array([0.5, 0.0, 0.2])} for a in env.agents})
-    left = [a for a in env.agents if a.startswith("left")]
-    models = [WorldModel.from_observation(obs[a], k, env.field, a) for k, a in enumerate(left)]
-    assert len({m.belief_key for m in models}) == 1
-    assert all(np.array_equal(m.teammates, models[0].teammates) for m in models)
-
-
 def test_the_full_team_predicts_with_the_env_drag_it_is_told():
     # a stickier pitch: the team's roll model is the env's, not a default
     import teamenv
