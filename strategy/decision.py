@@ -24,7 +24,7 @@ from strategy.behaviours import (
     kick_to,
 )
 from strategy.behaviours.ball import in_kick_reach
-from strategy.behaviours.kick_choice import best_kick
+from strategy.behaviours.kick_choice import MIN_SHOT_CHANCE, best_kick
 from strategy.behaviours.motion import detour, go_to
 from strategy.control import ControlRequest
 from strategy.positioning import PositioningDecision
@@ -178,7 +178,8 @@ class FieldPlayerDecisionMaker:
                            exclude=() if self.goalie is None else (self.goalie,))
         opps = wm.opponents[wm.opponents_present & ~wm.opponents_fallen]
         clearance = float(np.min(np.hypot(*(opps - wm.ball).T))) if len(opps) else math.inf
-        name = "shoot" if choice.shot else "pass" if choice.margin_s > 0 else "clear"
+        name = ("shoot" if choice.goal_chance >= MIN_SHOT_CHANCE else "kick_at_goal") \
+            if choice.shot else "pass" if choice.margin_s > 0 else "clear"
         if choice.shot or clearance < c.pressure_m or choice.margin_s >= c.kick_min_margin_s:
             return kick_to(wm, choice.target, self.skills, power=choice.power, behaviour=name)
         return dribble(wm, wm.opponent_goal, self.skills, speed=c.dribble_speed)

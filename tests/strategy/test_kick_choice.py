@@ -101,3 +101,50 @@ def test_the_full_team_predicts_with_the_env_drag_it_is_told():
     assert (roll.linear_drag, roll.rolling_decel) == (0.9, 0.6)
     expected = roll_distance(5.0, PhysicsConfig(ball_linear_drag=0.9, ball_rolling_decel=0.6))
     assert float(roll.travel(5.0, roll.stop_time(5.0))) == pytest.approx(expected, rel=0.02)
+
+
+def _decider():
+    from strategy.decision import FieldPlayerDecisionMaker
+    from strategy.teams.full_config import FullTeamConfig
+
+    from .scenes import skills
+
+    return FieldPlayerDecisionMaker(FullTeamConfig(), skills("mj7v7"), goalie=None)
+
+
+def test_ball_player_runs_to_meet_a_rolling_ball_not_to_where_it_is():
+    # ball rolling up the pitch past us on our left: go forward-left to meet it
+    wm = world(position=(0.0, 0.0), heading=0.0, ball=(-3.0, 2.0), ball_velocity=(5.0, 0.0),
+               field="mj7v7")
+    request = _decider().play_ball(wm)
+    assert request.behaviour == "intercept"
+    assert request.walk[0] > 0.0  # walks forward, towards where the ball will be
+    assert request.walk[2] > 0.0  # turning left, to the ball's line
+
+
+def test_ball_player_kicks_when_a_teammate_wins_the_race_and_dribbles_when_none_does():
+    decider = _decider()
+    # in reach, a free teammate ahead on the wing, opponents in the way to goal: a pass
+    passing = world(position=(-0.25, 0.0), ball=(0.0, 0.0), teammates=[(6.0, 6.0)],
+                    opponents=[(7.0, 0.0), (7.5, -1.0), (6.5, 1.0)], field="mj7v7")
+    kick = decider.play_ball(passing)
+    assert kick.kick is not None and kick.kick[0] > 0 and kick.behaviour == "pass"
+    # in reach near their corner, our only teammate far behind, their defenders on the goal
+    # line and in the box: no kick wins the race, no shot has a chance: push the ball on
+    alone = world(position=(21.75, 14.0), ball=(22.0, 14.0), teammates=[(-20.0, 10.0)],
+                  opponents=[(26.0, 2.0), (26.0, -1.0), (24.0, 6.0), (24.0, 12.0), (27.0, 0.0)],
+                  field="mj7v7")
+    push = decider.play_ball(alone)
+    assert push.kick is None and push.behaviour == "dribble", push
+    # from the centre circle with nobody near, a long kick at the goal (not called a shot)
+    open_field = world(position=(-0.25, 0.0), ball=(0.0, 0.0), teammates=[(-20.0, 10.0)],
+                       opponents=[(0.0, 12.0), (0.0, -12.0)], field="mj7v7")
+    long = decider.play_ball(open_field)
+    assert long.kick is not None and long.behaviour == "kick_at_goal"
+
+
+def test_formation_positions_are_pulled_towards_the_ball_rest_point():
+    decider = _decider()
+    wm = world(ball=(10.0, 0.0), ball_velocity=(0.0, 0.0), field="mj7v7")
+    pulled = decider.pulled(wm, np.array([0.0, 0.0]))
+    assert pulled == pytest.approx([10.0 * decider.config.ball_pull, 0.0])
