@@ -91,8 +91,9 @@ class Player:
         """This cycle's control request, from this agent's observation alone."""
         wm = self.perceive(obs)
         heard = wm.heard if self.config.communicate else ()
+        # the anticipated view is a function of the beliefs: their key identifies it
         decision = self.positioning.step(wm.positioning_view(anticipate=True), heard,
-                                         self.formation_for(wm))
+                                         self.formation_for(wm), wm.belief_key or None)
         request = self.decision.decide(wm, decision)
         if self.config.communicate and decision.say:
             request = request.with_say(decision.say)

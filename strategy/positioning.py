@@ -161,13 +161,16 @@ class PositioningAgent:
         return self.step(WorldView.from_observation(obs, self.me), heard_texts(obs), formation)
 
     def step(self, view: WorldView, heard: Sequence[str] = (),
-             formation: Formation | None = None) -> PositioningDecision:
+             formation: Formation | None = None,
+             view_key: bytes | None = None) -> PositioningDecision:
         """Decide this cycle's position from ``view`` and the ``heard`` texts; advance a cycle.
 
         Args:
             view: this agent's world view.
             heard: texts heard this cycle from teammates (or itself); non-votes are ignored.
             formation: use this formation this cycle instead of the default one (same size).
+            view_key: bytes that identify ``view`` exactly (views with equal keys are equal),
+                used for the memo instead of the view's arrays; None: key on the arrays.
         """
         f = self.formation if formation is None else formation
         if f.n_players != self.n:
@@ -183,9 +186,10 @@ class PositioningAgent:
                 self.voter.hear(vote[0], vote[1], cycle, validate=False)  # decoder checked it
         key = None
         if self.memo is not None:
-            key = (f, self.marking, self.fallen_penalty_m, view.ball.tobytes(), view.players.tobytes(), view.present.tobytes(),
-                   view.fallen.tobytes(), view.opponents.tobytes(),
-                   view.opponents_present.tobytes())
+            key = (f, self.marking, self.fallen_penalty_m, view_key) if view_key is not None \
+                else (f, self.marking, self.fallen_penalty_m, view.ball.tobytes(),
+                      view.players.tobytes(), view.present.tobytes(), view.fallen.tobytes(),
+                      view.opponents.tobytes(), view.opponents_present.tobytes())
             hit = self.memo.get(key)
             if hit is not None:
                 positions, own = hit
