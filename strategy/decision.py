@@ -42,11 +42,11 @@ class FieldPlayerDecisionMaker:
     its voted formation (or marking) position; set plays and beaming by the play mode."""
 
     def __init__(self, config: FullTeamConfig, skills: Skills, goalie: int | None,
-                 facts: dict | None = None) -> None:
+                 memo: dict | None = None) -> None:
         self.config = config
         self.skills = skills
         self.goalie = goalie
-        self.facts = facts  # team-wide facts shared by teammates who believe the same
+        self.memo = memo  # team-wide facts shared by teammates who believe the same
         self.ball_player: int | None = None
 
     def reset(self) -> None:
@@ -111,7 +111,7 @@ class FieldPlayerDecisionMaker:
     def choose_ball_player(self, wm: WorldModel) -> int:
         """The upright teammate who can be at the ball first (the goalie only if nobody else
         is upright); the previous ball player keeps it unless beaten by the hysteresis margin."""
-        d = shared(self.facts, "field_reach", wm, lambda: self._field_reach(wm))
+        d = shared(self.memo, "field_reach", wm, lambda: self._field_reach(wm))
         prev = self.ball_player
         if prev is not None and math.isfinite(d[prev]):
             d = d.copy()
@@ -130,20 +130,25 @@ class FieldPlayerDecisionMaker:
     def ball_reach(self, wm: WorldModel) -> np.ndarray:
         """(N,) how far each teammate must walk to meet the ball (at rest: its distance;
         rolling: to the earliest point it can intercept it); inf for the absent or fallen."""
-        return shared(self.facts, "ball_reach", wm, lambda: self._ball_reach(wm)).copy()
+        return shared(self.memo, "ball_reach", wm, lambda: self._ball_reach(wm)).copy()
 
     def _ball_reach(self, wm: WorldModel) -> np.ndarray:
         d = wm.upright_ball_distances()
         if math.hypot(*wm.ball_velocity) < MOVING_BALL_M_S:
             return d
-        speed = self.config.nav_max_speed
-        times, _ = wm.intercepts(wm.teammates, speed)
-        return np.where(np.isfinite(d), times * speed, np.inf)
+        times, _ = self.intercepts(wm)
+        return np.where(np.isfinite(d), times * self.config.nav_max_speed, np.inf)
+
+    def intercepts(self, wm: WorldModel) -> tuple[np.ndarray, np.ndarray]:
+        """Every teammate's earliest meeting time and point with the rolling ball
+        (``WorldModel.intercepts`` at ``nav_max_speed``), computed once per belief."""
+        return shared(self.memo, "intercepts", wm,
+                      lambda: wm.intercepts(wm.teammates, self.config.nav_max_speed))
 
     def supporter(self, wm: WorldModel) -> int | None:
         """The upright field player closest to the ball after the ball player (None if
         there is none)."""
-        return shared(self.facts, ("supporter", self.ball_player), wm,
+        return shared(self.memo, ("supporter", self.ball_player), wm,
                       lambda: self._supporter(wm))
 
     def _supporter(self, wm: WorldModel) -> int | None:
@@ -170,9 +175,9 @@ class FieldPlayerDecisionMaker:
         or to shoot; otherwise dribble towards the goal (round anyone in the way)."""
         c = self.config
         if math.hypot(*wm.ball_velocity) >= MOVING_BALL_M_S and not in_kick_reach(wm, self.skills):
-            _, points = wm.intercepts(wm.position[None, :], c.nav_max_speed)
-            if wm.distance(points[0]) > 0.5:
-                return go_to(wm, points[0], self.skills, face=wm.ball, behaviour="intercept")
+            meet = self.intercepts(wm)[1][wm.me]
+            if wm.distance(meet) > 0.5:
+                return go_to(wm, meet, self.skills, face=wm.ball, behaviour="intercept")
         choice = best_kick(wm, c.nav_max_speed, c.kick_possession_weight, c.kick_progress_weight,
                            c.kick_goal_weight, c.kick_follow_up,
                            exclude=() if self.goalie is None else (self.goalie,))
@@ -190,11 +195,11 @@ class GoalieDecisionMaker:
     take our goal kicks, and beam to the goal at kick-offs."""
 
     def __init__(self, config: FullTeamConfig, skills: Skills, goalie: int,
-                 facts: dict | None = None) -> None:
+                 memo: dict | None = None) -> None:
         self.config = config
         self.skills = skills
         self.goalie = goalie
-        self.field_player = FieldPlayerDecisionMaker(config, skills, goalie, facts)
+        self.field_player = FieldPlayerDecisionMaker(config, skills, goalie, memo)
 
     def reset(self) -> None:
         self.field_player.reset()

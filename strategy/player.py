@@ -33,15 +33,14 @@ class Player:
             ``setplay-theirs``), all of the team's size.
         skills: body facts and navigation gains.
         channel: the say channel profile name.
-        memo: a cache of positioning results the team's players share (see
-            ``PositioningAgent``), so agents that believe the same share the work.
-        facts: the same for the decision makers' team-wide facts (who reaches the ball
-            first, whether we control it), keyed by ``WorldModel.belief_key``.
+        memo: a cache the team's players share (``strategy.memo``): positioning results
+            and the decision makers' team-wide facts (who reaches the ball first, whether we
+            control it), so agents that believe the same share the work.
     """
 
     def __init__(self, me: int, name: str, side: str, config: FullTeamConfig,
                  formations: Mapping[str, Formation], skills: Skills, channel: str,
-                 memo: dict | None = None, facts: dict | None = None) -> None:
+                 memo: dict | None = None) -> None:
         self.me, self.name, self.side = me, name, side
         self.config = config
         self.formations = dict(formations)
@@ -53,10 +52,10 @@ class Player:
         goalie = defend.goalie_index
         if goalie is not None and me == goalie:
             self.decision: FieldPlayerDecisionMaker | GoalieDecisionMaker = \
-                GoalieDecisionMaker(config, skills, goalie, facts)
+                GoalieDecisionMaker(config, skills, goalie, memo)
         else:
-            self.decision = FieldPlayerDecisionMaker(config, skills, goalie, facts)
-        self.facts = facts
+            self.decision = FieldPlayerDecisionMaker(config, skills, goalie, memo)
+        self.memo = memo
         self.last_request = ControlRequest()
 
     def reset(self) -> None:
@@ -82,7 +81,7 @@ class Player:
             return self.formations["setplay-ours"]
         if now is Situation.THEIR_SET_PLAY:
             return self.formations["setplay-theirs"]
-        if self.config.switch_formations and shared(self.facts, "control", wm,
+        if self.config.switch_formations and shared(self.memo, "control", wm,
                                                         wm.we_control_ball):
             return self.formations["attack"]
         return self.formations["defend"]

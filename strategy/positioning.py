@@ -24,6 +24,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from strategy.formation.model import Formation, FormationError
 from strategy.marking import MarkingParams, apply_marking
+from strategy.memo import memoized
 from strategy.roles.assignment import FALLEN_PENALTY_M, assign_roles
 from strategy.roles.message import decode_role_vote, encode_role_vote
 from strategy.roles.voting import DEFAULT_MAX_AGE_CYCLES, RoleVoter
@@ -116,9 +117,9 @@ class PositioningAgent:
         fallen_penalty_m: extra distance charged to fallen players in role assignment, metres.
         say_every: say the role vector every this many cycles (offset by ``me``), 1 = always.
         memo: a dict that caches the pure part of ``step`` (formation lookup, marking, role
-            assignment) by its exact inputs; agents of one process may share one, so identical
-            world views are computed once (a cache of a pure function: no agent sees another's
-            view). None: no caching.
+            assignment) by its exact inputs (``strategy.memo``); agents of one process may
+            share one, so identical world views are computed once (a cache of a pure
+            function: no agent sees another's view). None: no caching.
     """
 
     def __init__(
@@ -190,16 +191,7 @@ class PositioningAgent:
                 else (f, self.marking, self.fallen_penalty_m, view.ball.tobytes(),
                       view.players.tobytes(), view.present.tobytes(), view.fallen.tobytes(),
                       view.opponents.tobytes(), view.opponents_present.tobytes())
-            hit = self.memo.get(key)
-            if hit is not None:
-                positions, own = hit
-            else:
-                positions, own = self._assign(f, view)
-                if len(self.memo) >= 16:
-                    self.memo.clear()
-                self.memo[key] = (positions, own)
-        else:
-            positions, own = self._assign(f, view)
+        positions, own = memoized(self.memo, key, lambda: self._assign(f, view))
         team = self.voter.vote(own.position_of, cycle, validate=False)
         k = int(team[self.me])
         say = ""

@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from strategy.ballroll import BallRoll
+from strategy.memo import memoized
 from strategy.positioning import WorldView, heard_texts
 from teamenv import PlayMode
 from teamenv.errors import TeamEnvError
@@ -192,18 +193,9 @@ def _rounded(values: NDArray[np.floating]) -> NDArray[np.float64]:
     return np.round(np.asarray(values, dtype=np.float64) / r) * r + 0.0  # + 0.0: no -0.0
 
 
-_MISSING = object()
-
-
 def shared(memo: dict | None, name: Hashable, wm: WorldModel, compute: Callable[[], T]) -> T:
     """``compute()``, cached in ``memo`` under ``name`` and the agent's beliefs: teammates
     who believe the same compute a team-wide fact once. Callers must not modify the result."""
-    if memo is None or not wm.belief_key:
+    if not wm.belief_key:
         return compute()
-    key = (name, wm.belief_key)
-    hit = memo.get(key, _MISSING)
-    if hit is _MISSING:
-        if len(memo) >= 64:
-            memo.clear()
-        hit = memo[key] = compute()
-    return hit
+    return memoized(memo, (name, wm.belief_key), compute)

@@ -49,11 +49,10 @@ class FullTeam:
         formations = {kind: team_formation(getattr(self.config, key), context.team_size,
                                            context.field)
                       for kind, key in FORMATION_KEYS.items()}
-        memo: dict = {}  # positioning results by exact inputs, shared (see PositioningAgent)
-        facts: dict = {}  # decision makers' team-wide facts by belief (see worldmodel.shared)
+        memo: dict = {}  # pure results by exact inputs, shared (see strategy.memo)
         self.players = {
             agent: Player(k, agent, context.side, self.config, formations, self.skills,
-                          context.channel, memo, facts)
+                          context.channel, memo)
             for k, agent in enumerate(context.agents)
         }
 
