@@ -12,6 +12,8 @@ class FieldSpec:
     """Dimensions of one pitch, in metres.
 
     x runs along the length (goal to goal), y across; the left team's goal is at x = -length/2.
+    ``goal_height`` (crossbar) and ``penalty_spot_distance`` (from the goal line; 0 = no
+    penalty spot) place the vision landmarks (``teamenv.landmarks``).
     """
 
     name: str
@@ -24,6 +26,8 @@ class FieldSpec:
     center_circle_radius: float
     goal_post_radius: float
     default_team_size: int
+    goal_height: float = 0.8
+    penalty_spot_distance: float = 0.0
 
     @property
     def half_length(self) -> float:
@@ -48,17 +52,19 @@ FIELD_PRESETS: dict[str, FieldSpec] = {
     "simspark": FieldSpec(
         name="simspark", length=30.0, width=20.0, goal_width=2.1, goal_depth=0.6,
         penalty_length=1.8, penalty_width=3.9, center_circle_radius=2.0,
-        goal_post_radius=0.05, default_team_size=11,
+        goal_post_radius=0.05, default_team_size=11, goal_height=0.8,
     ),
     "mj7v7": FieldSpec(
         name="mj7v7", length=55.0, width=36.0, goal_width=3.66, goal_depth=1.0,
         penalty_length=8.0, penalty_width=20.0, center_circle_radius=4.5,
-        goal_post_radius=0.06, default_team_size=7,
+        goal_post_radius=0.06, default_team_size=7, goal_height=1.83,
+        penalty_spot_distance=7.32,
     ),
     "fifa": FieldSpec(
         name="fifa", length=105.0, width=68.0, goal_width=7.32, goal_depth=2.0,
         penalty_length=16.5, penalty_width=40.32, center_circle_radius=9.15,
-        goal_post_radius=0.06, default_team_size=11,
+        goal_post_radius=0.06, default_team_size=11, goal_height=2.44,
+        penalty_spot_distance=11.0,
     ),
 }
 
