@@ -25,11 +25,11 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from strategy.formation import builtin_formation  # noqa: E402
-from strategy.marking import MarkingParams, apply_marking  # noqa: E402
 from strategy.positioning import PositioningAgent, world_view  # noqa: E402
-from strategy.roles import RoleVoter, assign_roles  # noqa: E402
-from strategy.roles.message import decode_role_vote, encode_role_vote  # noqa: E402
+from strategy.positioning.formation import builtin_formation  # noqa: E402
+from strategy.positioning.marking import MarkingParams, apply_marking  # noqa: E402
+from strategy.positioning.roles import RoleVoter, assign_roles  # noqa: E402
+from strategy.positioning.roles.message import decode_role_vote, encode_role_vote  # noqa: E402
 
 N = 11
 TARGET_MS = 1.0

@@ -13,9 +13,9 @@ import numpy as np  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
-from strategy.formation import builtin_formation, plot_formation  # noqa: E402
-from strategy.roles import assign_roles, tally_votes  # noqa: E402
-from strategy.roles.plot import plot_assignment, plot_votes  # noqa: E402
+from strategy.positioning.formation import builtin_formation, plot_formation  # noqa: E402
+from strategy.positioning.roles import assign_roles, tally_votes  # noqa: E402
+from strategy.positioning.roles.plot import plot_assignment, plot_votes  # noqa: E402
 
 # figure 1: a formation
 f = builtin_formation("11v11-defend")

@@ -8,11 +8,11 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from strategy.behaviours.control import ControlRequest
 from strategy.behaviours.motion import go_to
 from strategy.behaviours.skills import Skills
-from strategy.control import ControlRequest
-from strategy.navigation import wrap
-from strategy.worldmodel import WorldModel
+from strategy.geometry import wrap_angle
+from strategy.perception.worldmodel import WorldModel
 
 BEHIND_M = 0.45
 """Where the approach lines up: this far behind the ball on the line from the aim point."""
@@ -38,17 +38,17 @@ def approach_ball(wm: WorldModel, aim: ArrayLike, skills: Skills,
     to_ball = ball - wm.position
     dist = math.hypot(to_ball[0], to_ball[1])
     aim_angle = math.atan2(u[1], u[0])
-    heading_error = wrap(aim_angle - wm.heading)
+    heading_error = wrap_angle(aim_angle - wm.heading)
     # How far the agent is behind the ball along the aim line (> 0: on the right side).
     behind = -float((wm.position - ball) @ u)
     lateral = abs(float((wm.position - ball) @ np.array([-u[1], u[0]])))
-    ball_bearing = abs(wrap(math.atan2(to_ball[1], to_ball[0]) - wm.heading)) if dist > 1e-6 \
+    ball_bearing = abs(wrap_angle(math.atan2(to_ball[1], to_ball[0]) - wm.heading)) if dist > 1e-6 \
         else 0.0
     lined_up = (dist <= skills.kick_reach * 0.95 and ball_bearing < 1.2
                 and abs(heading_error) < skills.kick_max_angle)
     if lined_up:
         return ControlRequest(behaviour=behaviour), True
-    if dist > 0.3 and abs(wrap(aim_angle - math.atan2(to_ball[1], to_ball[0]))) < \
+    if dist > 0.3 and abs(wrap_angle(aim_angle - math.atan2(to_ball[1], to_ball[0]))) < \
             skills.kick_max_angle - 0.2:
         # The aim can be kicked from the direction we come from: straight to the ball.
         target = ball - to_ball / dist * (CONTACT_M - 0.04)
@@ -79,7 +79,7 @@ def kick_to(wm: WorldModel, target: ArrayLike, skills: Skills, power: float | No
         return request
     if power is None:
         power = min(1.0, max(0.25, math.hypot(*(t - wm.ball)) / skills.kick_distance_m))
-    direction = wrap(math.atan2(t[1] - wm.ball[1], t[0] - wm.ball[0]) - wm.heading)
+    direction = wrap_angle(math.atan2(t[1] - wm.ball[1], t[0] - wm.ball[0]) - wm.heading)
     return ControlRequest(kick=(float(power), direction), behaviour=behaviour)
 
 
@@ -140,7 +140,7 @@ def in_kick_reach(wm: WorldModel, skills: Skills) -> bool:
     dist = math.hypot(to_ball[0], to_ball[1])
     if dist > skills.kick_reach * 0.95:
         return False
-    return dist < 1e-6 or abs(wrap(math.atan2(to_ball[1], to_ball[0]) - wm.heading)) < 1.2
+    return dist < 1e-6 or abs(wrap_angle(math.atan2(to_ball[1], to_ball[0]) - wm.heading)) < 1.2
 
 
 def quick_kick(wm: WorldModel, skills: Skills, preferred: ArrayLike | None = None,
@@ -163,7 +163,7 @@ def quick_kick(wm: WorldModel, skills: Skills, preferred: ArrayLike | None = Non
     if preferred is not None:
         p = np.asarray(preferred, dtype=np.float64)
         pa = math.atan2(p[1] - wm.ball[1], p[0] - wm.ball[0])
-        if abs(wrap(pa - wm.heading)) <= skills.kick_max_angle:
+        if abs(wrap_angle(pa - wm.heading)) <= skills.kick_max_angle:
             angles.insert(0, pa)
             bonus[0] = 2.0
     best, best_score = None, 0.0
@@ -179,7 +179,7 @@ def quick_kick(wm: WorldModel, skills: Skills, preferred: ArrayLike | None = Non
             best, best_score = angle, score
     if best is None:
         return None
-    return ControlRequest(kick=(1.0, wrap(best - wm.heading)), behaviour="quick_kick")
+    return ControlRequest(kick=(1.0, wrap_angle(best - wm.heading)), behaviour="quick_kick")
 
 
 def dribble(wm: WorldModel, target: ArrayLike, skills: Skills,

@@ -9,10 +9,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from strategy.behaviours.ball import clear_ball
+from strategy.behaviours.control import ControlRequest
 from strategy.behaviours.motion import hold_position
 from strategy.behaviours.skills import Skills
-from strategy.control import ControlRequest
-from strategy.worldmodel import WorldModel
+from strategy.perception.worldmodel import WorldModel
 
 
 def goalie_target(wm: WorldModel, line_m: float) -> NDArray[np.float64]:

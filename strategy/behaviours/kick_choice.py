@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.special import ndtr
 
-from strategy.worldmodel import WorldModel
+from strategy.perception.worldmodel import WorldModel
 
 AIM_SIGMA_RAD = 0.189
 """Aim error s.d.: seed 000 Table 1 puts 64.5 % of kicks within 10 degrees."""

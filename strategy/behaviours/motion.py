@@ -8,10 +8,11 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from strategy.behaviours.control import ControlRequest
+from strategy.behaviours.navigation import walk_command
 from strategy.behaviours.skills import Skills
-from strategy.control import ControlRequest
-from strategy.navigation import walk_command, wrap
-from strategy.worldmodel import WorldModel
+from strategy.geometry import wrap_angle
+from strategy.perception.worldmodel import WorldModel
 
 
 def go_to(wm: WorldModel, target: ArrayLike, skills: Skills, face: ArrayLike | None = None,
@@ -27,7 +28,7 @@ def go_to(wm: WorldModel, target: ArrayLike, skills: Skills, face: ArrayLike | N
 
 def face_ball(wm: WorldModel, skills: Skills) -> ControlRequest:
     """Stand and turn towards the ball."""
-    error = wrap(math.atan2(wm.ball[1] - wm.position[1], wm.ball[0] - wm.position[0])
+    error = wrap_angle(math.atan2(wm.ball[1] - wm.position[1], wm.ball[0] - wm.position[0])
                  - wm.heading)
     return ControlRequest(walk=np.array([0.0, 0.0, skills.navigation.turn_gain * error]),
                           behaviour="face_ball")
@@ -88,7 +89,7 @@ def detour(position: ArrayLike, target: ArrayLike, center: ArrayLike,
         return c + rel * ((outer + 0.1) / rp)
     a_p = math.atan2(rel[1], rel[0])
     a_t = math.atan2(t[1] - c[1], t[0] - c[0])
-    turn = wrap(a_t - a_p)
+    turn = wrap_angle(a_t - a_p)
     side = 1.0 if turn > 0 or (turn == 0 and rel[0] * seg[1] - rel[1] * seg[0] <= 0) else -1.0
     angle = a_p + side * math.acos(outer / rp)
     return c + outer * np.array([math.cos(angle), math.sin(angle)])

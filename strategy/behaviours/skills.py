@@ -7,8 +7,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from strategy.ballroll import BallRoll
-from strategy.navigation import NavigationParams
+from strategy.behaviours.navigation import NavigationParams
+from strategy.geometry import BallRoll
 from teamenv.field import FieldSpec
 
 

@@ -10,9 +10,9 @@ from typing import Any
 
 import numpy as np
 
+from strategy.perception.worldmodel import WorldModel
 from strategy.teams.common import kick_toward, walk_to
 from teamenv import PlayMode
-from teamenv.observation import team_frame
 from teamenv.teams import TeamContext
 
 OWN_KICKABLE = {"PlayOn", "KickOff_Left", "KickIn_Left", "CornerKick_Left", "GoalKick_Left"}
@@ -29,28 +29,29 @@ class ChaserTeam:
         self.kick_reach = context.kick_reach * 0.9 if kick_reach is None else float(kick_reach)
         self.all_chase = bool(all_chase)
         self.goal = np.array([context.field.half_length, 0.0])
+        self.index = {agent: k for k, agent in enumerate(context.agents)}
 
     def reset(self, seed: int) -> None:
         self.rng = np.random.default_rng(seed)
 
     def act(self, observations: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[str, Any]]:
-        return {agent: self._decide(obs) for agent, obs in observations.items()}
+        return {agent: self._decide(obs, self.index[agent]) for agent, obs in observations.items()}
 
-    def _decide(self, obs: Mapping[str, Any]) -> dict[str, Any]:
-        view = team_frame(obs)
+    def _decide(self, obs: Mapping[str, Any], me: int) -> dict[str, Any]:
+        view = WorldModel.from_observation(obs, me, self.context.field, resolution=None)
         if view.play_mode.name not in OWN_KICKABLE or view.fallen:
             return {"walk": np.zeros(3)} if view.play_mode != PlayMode.PlayOn else \
                 {"walk": walk_to(view, view.ball, *self.bounds, face=view.ball)}
         dist = np.hypot(*(view.teammates - view.ball).T)
         dist[~view.teammates_present] = np.inf
-        me = float(np.hypot(*(view.position - view.ball)))
-        if not self.all_chase and me > dist.min() + 1e-6:
+        mine = float(np.hypot(*(view.position - view.ball)))
+        if not self.all_chase and mine > dist.min() + 1e-6:
             home = view.ball * 0.5 + np.array([-self.context.field.half_length, 0.0]) * 0.5
             return {"walk": walk_to(view, home, *self.bounds, face=view.ball)}
-        if me <= self.kick_reach:
+        if mine <= self.kick_reach:
             return {"walk": np.zeros(3), "kick": kick_toward(view, self.goal)}
         # Approach from behind the ball, on the line to the goal.
         to_goal = self.goal - view.ball
         behind = view.ball - 0.25 * to_goal / max(1e-6, float(np.hypot(*to_goal)))
-        target = behind if me > 0.6 else view.ball
+        target = behind if mine > 0.6 else view.ball
         return {"walk": walk_to(view, target, *self.bounds, face=view.ball)}

@@ -6,19 +6,19 @@ import math
 
 import numpy as np
 
-from teamenv.observation import TeamView
+from strategy.geometry import to_body, wrap_angle
+from strategy.perception.worldmodel import WorldModel
 
 
-def walk_to(view: TeamView, target: np.ndarray, low: tuple, high: tuple,
+def walk_to(view: WorldModel, target: np.ndarray, low: tuple, high: tuple,
             face: np.ndarray | None = None, speed: float = 1.0) -> np.ndarray:
     """Body-frame walk command (vx, vy, vturn) towards ``target`` (team frame, metres),
     turning to face ``face`` (defaults to the direction of travel), clipped to [low, high]."""
     delta = np.asarray(target, dtype=float) - view.position
     dist = float(np.hypot(*delta))
-    c, s = math.cos(view.heading), math.sin(view.heading)
-    local = np.array([c * delta[0] + s * delta[1], -s * delta[0] + c * delta[1]])
+    local = np.array(to_body(delta[0], delta[1], view.heading))
     look = delta if face is None else np.asarray(face, dtype=float) - view.position
-    turn = _wrap(math.atan2(look[1], look[0]) - view.heading) if np.hypot(*look) > 0.05 else 0.0
+    turn = wrap_angle(math.atan2(look[1], look[0]) - view.heading) if np.hypot(*look) > 0.05 else 0.0
     if dist < 0.05:
         return np.clip(np.array([0.0, 0.0, 1.5 * turn]), low, high)
     direction = local / dist
@@ -28,11 +28,7 @@ def walk_to(view: TeamView, target: np.ndarray, low: tuple, high: tuple,
     return np.clip(command, low, high)
 
 
-def kick_toward(view: TeamView, target: np.ndarray, power: float = 1.0) -> np.ndarray:
+def kick_toward(view: WorldModel, target: np.ndarray, power: float = 1.0) -> np.ndarray:
     """Kick (power, body-frame direction) sending the ball towards ``target`` (team frame)."""
     delta = np.asarray(target, dtype=float) - view.ball
-    return np.array([power, _wrap(math.atan2(delta[1], delta[0]) - view.heading)])
-
-
-def _wrap(angle: float) -> float:
-    return (angle + math.pi) % (2 * math.pi) - math.pi
+    return np.array([power, wrap_angle(math.atan2(delta[1], delta[0]) - view.heading)])

@@ -2,7 +2,7 @@
 a goalie — eleven (or N) independent agents, each deciding from its own observation.
 
 A template for a serious team: copy this file, change ``FullTeamConfig`` (or the decision
-makers in ``strategy.decision``), and register your class as a ``teamenv.teams`` entry point.
+makers in ``strategy.decision.field_player``), and register your class as a ``teamenv.teams`` entry point.
 """
 
 from __future__ import annotations
@@ -12,11 +12,11 @@ from typing import Any
 
 import numpy as np
 
-from strategy.ballroll import BallRoll
 from strategy.behaviours.skills import Skills
-from strategy.formation.sized import team_formation
-from strategy.player import Player
+from strategy.geometry import BallRoll
+from strategy.positioning.formation.sized import team_formation
 from strategy.teams.full_config import FullTeamConfig
+from strategy.teams.player import Player
 from teamenv.errors import ConfigError
 from teamenv.teams import TeamContext
 

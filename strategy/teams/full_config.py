@@ -10,10 +10,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, fields
 
-from strategy.formation.builtin import builtin_formation_names
-from strategy.formation.sized import KINDS
-from strategy.marking import MarkingParams
-from strategy.navigation import NavigationParams
+from strategy.behaviours.navigation import NavigationParams
+from strategy.decision.params import DecisionParams
+from strategy.positioning.formation.builtin import builtin_formation_names
+from strategy.positioning.formation.sized import KINDS
+from strategy.positioning.marking import MarkingParams
 from teamenv.errors import ConfigError
 
 
@@ -21,13 +22,13 @@ from teamenv.errors import ConfigError
 class FullTeamConfig:
     """Parameters of the full team (metres, m/s, cycles).
 
-    Formations (a kind from ``strategy.formation.sized.KINDS`` = the built-in of the team's
+    Formations (a kind from ``strategy.positioning.formation.sized.KINDS`` = the built-in of the team's
     size, or a built-in formation name):
         formation_attack, formation_defend: in play, when we control the ball / when not.
         formation_kickoff_ours, formation_kickoff_theirs, formation_setplay_ours,
         formation_setplay_theirs: at kick-offs and the other set plays.
         switch_formations: False = always ``formation_defend`` in play.
-    Marking (``strategy.marking``, seed 000 §5.4):
+    Marking (``strategy.positioning.marking``, seed 000 §5.4):
         marking: mark dangerous opponents. mark_shoot_range_m, mark_min_ball_distance_m,
         mark_max_behind_ball_m, mark_distance_m, max_markers: its thresholds.
     Playing the ball (``strategy.behaviours.kick_choice.best_kick``: every kick is scored by
@@ -149,6 +150,10 @@ class FullTeamConfig:
             return None
         return MarkingParams(self.mark_shoot_range_m, self.mark_min_ball_distance_m,
                              self.mark_max_behind_ball_m, self.mark_distance_m, self.max_markers)
+
+    def decision_params(self) -> DecisionParams:
+        """The decision makers' share of this config (fields of the same names)."""
+        return DecisionParams(**{f.name: getattr(self, f.name) for f in fields(DecisionParams)})
 
     def navigation_params(self) -> NavigationParams:
         return NavigationParams(k_repulse=self.nav_k_repulse, influence_m=self.nav_influence_m,

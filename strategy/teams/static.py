@@ -7,8 +7,8 @@ from typing import Any
 
 import numpy as np
 
+from strategy.perception.worldmodel import WorldModel
 from strategy.teams.common import walk_to
-from teamenv.observation import team_frame
 from teamenv.teams import TeamContext
 
 
@@ -28,6 +28,7 @@ class StaticTeam:
             y = f.half_width * 0.8 * (((k + 1) / (rest + 1)) * 2 - 1)
             x = -f.half_length * depth * (0.9 if k % 2 else 0.5)
             spots.append(np.array([x, y]))
+        self.index = {agent: k for k, agent in enumerate(context.agents)}
         self.spots = {agent: spots[k] for k, agent in enumerate(context.agents)}
 
     def reset(self, seed: int) -> None:
@@ -36,6 +37,7 @@ class StaticTeam:
     def act(self, observations: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[str, Any]]:
         out = {}
         for agent, obs in observations.items():
-            view = team_frame(obs)
+            view = WorldModel.from_observation(obs, self.index[agent], self.context.field,
+                                               resolution=None)
             out[agent] = {"walk": walk_to(view, self.spots[agent], *self.bounds, face=view.ball, speed=0.6)}
         return out

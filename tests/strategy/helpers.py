@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from hypothesis import strategies as st
 
-from strategy.formation import Formation, FormationError, Role
+from strategy.positioning.formation import Formation, FormationError, Role
 
 
 def roles(n: int) -> list[Role]:

@@ -15,7 +15,7 @@ import numpy as np
 import locomotion
 import teamenv
 from strategy.behaviours.skills import Skills
-from strategy.worldmodel import WorldModel
+from strategy.perception.worldmodel import WorldModel
 from teamenv.field import FieldSpec, field_preset
 from teamenv.sim.playmode import PlayMode
 

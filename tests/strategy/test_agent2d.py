@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pytest
 
-from strategy.formation import FormationError, builtin_formation, import_agent2d
+from strategy.positioning.formation import FormationError, builtin_formation, import_agent2d
 
 NAMES = ["Goalie", "CenterBack", "CenterBack", "SideBack", "SideBack", "DefensiveHalf",
          "DefensiveHalf", "SideHalf", "SideHalf", "Forward", "Forward"]

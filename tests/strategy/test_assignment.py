@@ -9,8 +9,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from strategy.roles import RoleAssignmentError, assign_roles, solve_greedy, solve_mmd_msd2
-from strategy.roles import assignment as assignment_module
+from strategy.positioning.roles import (
+    RoleAssignmentError,
+    assign_roles,
+    solve_greedy,
+    solve_mmd_msd2,
+)
+from strategy.positioning.roles import assignment as assignment_module
 
 _PERMS = {n: np.array(list(itertools.permutations(range(n)))) for n in range(1, 9)}
 

@@ -21,11 +21,11 @@ from strategy.behaviours.ball import (
     shoot,
     shot_target,
 )
+from strategy.behaviours.control import ControlRequest
 from strategy.behaviours.goalie import goalie_target
 from strategy.behaviours.motion import beam_to, detour, face_ball, hold_position, keep_clear
-from strategy.control import ControlRequest
-from strategy.navigation import wrap
-from strategy.worldmodel import WorldModel
+from strategy.geometry import wrap_angle as wrap
+from strategy.perception.worldmodel import WorldModel
 from teamenv import PlayMode
 from tests.strategy import scenes
 

@@ -14,8 +14,8 @@ import pytest
 
 import comms
 import teamenv
-from strategy.formation import builtin_formation
 from strategy.positioning import PositioningAgent, WorldView, world_view
+from strategy.positioning.formation import builtin_formation
 
 N = 11
 FORMATION = builtin_formation("11v11-defend")

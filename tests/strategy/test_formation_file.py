@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pytest
 
-from strategy.formation import (
+from strategy.positioning.formation import (
     FormationError,
     builtin_formation,
     builtin_formation_names,
@@ -16,7 +16,7 @@ from strategy.formation import (
     read_formation,
     write_formation,
 )
-from strategy.formation.design import build_builtins
+from strategy.positioning.formation.design import build_builtins
 from teamenv.field import field_preset
 from tests.strategy.helpers import grid_formation
 

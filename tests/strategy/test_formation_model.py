@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from strategy.formation import Formation, FormationError, Role
+from strategy.positioning.formation import Formation, FormationError, Role
 from tests.strategy.helpers import formations, grid_formation, roles
 
 

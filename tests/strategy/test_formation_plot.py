@@ -8,7 +8,7 @@ matplotlib.use("Agg")
 
 import matplotlib.pyplot as plt  # noqa: E402
 
-from strategy.formation import builtin_formation, plot_formation  # noqa: E402
+from strategy.positioning.formation import builtin_formation, plot_formation  # noqa: E402
 
 
 def test_plot_draws_triangulation_samples_and_home_positions(tmp_path):

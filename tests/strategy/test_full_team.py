@@ -11,7 +11,7 @@ import pytest
 
 import teamenv
 from comms.testing import assert_fits
-from strategy.roles.message import decode_role_vote, role_vote_schema
+from strategy.positioning.roles.message import decode_role_vote, role_vote_schema
 from strategy.teams.full import FullTeam
 from strategy.teams.full_config import FullTeamConfig
 from teamenv.errors import ConfigError, TeamLoadError

@@ -10,8 +10,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from strategy.ballroll import BallRoll
 from strategy.behaviours.kick_choice import best_kick, goal_probability
+from strategy.geometry import BallRoll
 from teamenv.config import PhysicsConfig
 from teamenv.sim.world import roll_distance
 
@@ -104,12 +104,12 @@ def test_the_full_team_predicts_with_the_env_drag_it_is_told():
 
 
 def _decider():
-    from strategy.decision import FieldPlayerDecisionMaker
+    from strategy.decision.field_player import FieldPlayerDecisionMaker
     from strategy.teams.full_config import FullTeamConfig
 
     from .scenes import skills
 
-    return FieldPlayerDecisionMaker(FullTeamConfig(), skills("mj7v7"), goalie=None)
+    return FieldPlayerDecisionMaker(FullTeamConfig().decision_params(), skills("mj7v7"), goalie=None)
 
 
 def test_ball_player_runs_to_meet_a_rolling_ball_not_to_where_it_is():

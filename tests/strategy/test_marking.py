@@ -7,14 +7,14 @@ import itertools
 import numpy as np
 import pytest
 
-from strategy.marking import (
+from strategy.positioning.marking import (
     MarkingError,
     MarkingParams,
     apply_marking,
     dangerous_opponents,
     marking_positions,
 )
-from strategy.roles import assign_roles
+from strategy.positioning.roles import assign_roles
 
 PRM = MarkingParams(shoot_range_m=9.0, min_ball_distance_m=2.0, max_behind_ball_m=3.0,
                     mark_distance_m=1.5, max_markers=None)

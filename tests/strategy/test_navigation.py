@@ -9,7 +9,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from strategy.navigation import NavigationParams, direction_to, field_vector, walk_command, wrap
+from strategy.behaviours.navigation import (
+    NavigationParams,
+    direction_to,
+    field_vector,
+    walk_command,
+)
+from strategy.geometry import wrap_angle as wrap
 from teamenv.errors import ConfigError
 from tests.strategy import scenes
 

@@ -9,8 +9,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from strategy.roles import assign_roles, tally_votes  # noqa: E402
-from strategy.roles.plot import plot_assignment, plot_votes  # noqa: E402
+from strategy.positioning.roles import assign_roles, tally_votes  # noqa: E402
+from strategy.positioning.roles.plot import plot_assignment, plot_votes  # noqa: E402
 
 
 def test_plot_assignment_and_votes(tmp_path):

@@ -1,4 +1,4 @@
-"""Set plays obey the referee: unit properties of ``strategy.setplays`` and whole teams through
+"""Set plays obey the referee: unit properties of ``strategy.decision.setplays`` and whole teams through
 the env (``full`` against ``static``, which never takes a set play, so every one of theirs
 lasts until the referee's timeout)."""
 
@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from strategy.setplays import (
+from strategy.decision.setplays import (
     Situation,
     keep_distance,
     set_play_taker,

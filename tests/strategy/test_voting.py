@@ -9,9 +9,15 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from strategy.roles import RoleVoter, VotingError, is_permutation, tally_votes, vote_matrix
-from strategy.roles.message import decode_role_vote, encode_role_vote, role_vote_schema
-from strategy.roles.voting import _tally, _tally_slow
+from strategy.positioning.roles import (
+    RoleVoter,
+    VotingError,
+    is_permutation,
+    tally_votes,
+    vote_matrix,
+)
+from strategy.positioning.roles.message import decode_role_vote, encode_role_vote, role_vote_schema
+from strategy.positioning.roles.voting import _tally, _tally_slow
 
 
 def brute_force(vectors: np.ndarray) -> list[int]:

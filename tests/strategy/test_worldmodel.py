@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from strategy.worldmodel import WorldModel, shared
+from strategy.perception.worldmodel import WorldModel, shared
 
 from .scenes import make_env, world
 

@@ -1,6 +1,6 @@
-"""Where a rolling ball goes: the pitch's drag model, solved in closed form.
+"""The agent's small geometry: angle wrapping, body <-> team frames, and the ball's roll.
 
-teamenv's ball slows by ``dv/dt = -linear_drag * v - rolling_decel`` (``PhysicsConfig``;
+Where a rolling ball goes is the pitch's drag model solved in closed form: teamenv's ball slows by ``dv/dt = -linear_drag * v - rolling_decel`` (``PhysicsConfig``;
 the team is told both numbers in its ``TeamContext``), so where it stops and when can be
 computed instead of guessed. Players use it to run to where the ball will be, not where it is.
 """
@@ -11,18 +11,47 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
+
+from teamenv.config import PhysicsConfig
 
 MAX_ROLL_S = 20.0
 """Horizon for a drag-free ball (both coefficients 0 never stops)."""
+
+
+def wrap_angle(angle: float) -> float:
+    """``angle`` wrapped to [-pi, pi)."""
+    return (angle + math.pi) % (2.0 * math.pi) - math.pi
+
+
+def wrap_angles(angles: ArrayLike) -> NDArray[np.float64]:
+    """Elementwise ``wrap_angle`` of an array."""
+    return (np.asarray(angles, dtype=np.float64) + np.pi) % (2.0 * np.pi) - np.pi
+
+
+def to_body(dx: float, dy: float, heading: float) -> tuple[float, float]:
+    """A team-frame offset (dx, dy) in the body frame of a player facing ``heading``."""
+    c, s = math.cos(heading), math.sin(heading)
+    return c * dx + s * dy, -s * dx + c * dy
+
+
+def to_team(forward: float, left: float, heading: float) -> tuple[float, float]:
+    """A body-frame offset (forward, left) in the team frame (the inverse of ``to_body``)."""
+    c, s = math.cos(heading), math.sin(heading)
+    return c * forward - s * left, s * forward + c * left
+
+
+def bearing(dx: float, dy: float, heading: float) -> float:
+    """The angle of the team-frame offset (dx, dy) seen from ``heading``, in [-pi, pi)."""
+    return wrap_angle(math.atan2(dy, dx) - heading)
 
 
 @dataclass(frozen=True)
 class BallRoll:
     """The ball's rolling drag: ``linear_drag`` (1/s) and ``rolling_decel`` (m/s²)."""
 
-    linear_drag: float = 0.4
-    rolling_decel: float = 0.3
+    linear_drag: float = PhysicsConfig.ball_linear_drag  # the world's defaults, not copies
+    rolling_decel: float = PhysicsConfig.ball_rolling_decel
 
     def stop_time(self, speed: float) -> float:
         """Seconds until a ball rolling at ``speed`` m/s stops."""

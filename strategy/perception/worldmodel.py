@@ -14,11 +14,10 @@ from dataclasses import dataclass
 from typing import Any, TypeVar
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
-from strategy.ballroll import BallRoll
+from strategy.geometry import BallRoll
 from strategy.memo import memoized
-from strategy.positioning import WorldView, heard_texts
 from teamenv import PlayMode
 from teamenv.errors import TeamEnvError
 from teamenv.field import FieldSpec
@@ -30,6 +29,61 @@ BELIEF_RESOLUTION_M = 0.01
 """Positions (m) and the ball's velocity (m/s) are rounded to this: float32 observations
 differ by ~1e-6 m between observers, and teammates who believe the same should decide the
 same (and can share the work: ``belief_key``)."""
+
+
+@dataclass(frozen=True)
+class WorldView:
+    """What one agent believes, in its team frame (metres; row k = uniform number k + 1).
+
+    Attributes:
+        players: (N, 2) teammate positions, own row included.
+        present: (N,) bool, False for teammates not on the field / unknown.
+        fallen: (N,) bool.
+        ball: (2,) ball position.
+        opponents: (M, 2) opponent positions.
+        opponents_present: (M,) bool.
+    """
+
+    players: NDArray[np.float64]
+    present: NDArray[np.bool_]
+    fallen: NDArray[np.bool_]
+    ball: NDArray[np.float64]
+    opponents: NDArray[np.float64]
+    opponents_present: NDArray[np.bool_]
+
+
+def heard_texts(obs: Mapping[str, Any]) -> list[str]:
+    """The non-empty texts of ``obs`` heard from teammates or from oneself (opponents' dropped)."""
+    texts = obs.get("heard_text", ())
+    info = np.asarray(obs.get("heard", np.zeros((0, 4))))
+    out = []
+    for k, text in enumerate(texts):
+        if not text or k >= len(info):
+            continue
+        present, from_self, from_mate = info[k, 0] > 0.5, info[k, 1] > 0.5, info[k, 2] > 0.5
+        if present and (from_self or from_mate):
+            out.append(text)
+    return out
+
+
+
+
+def world_view(players: ArrayLike, ball: ArrayLike, opponents: ArrayLike | None = None,
+               present: ArrayLike | None = None, fallen: ArrayLike | None = None,
+               opponents_present: ArrayLike | None = None) -> WorldView:
+    """A ``WorldView`` from arrays (metres, team frame); masks default to all present / upright."""
+    p = np.asarray(players, dtype=np.float64)
+    n = len(p)
+    o = np.zeros((0, 2)) if opponents is None else np.asarray(opponents, dtype=np.float64)
+    return WorldView(
+        p,
+        np.ones(n, dtype=bool) if present is None else np.asarray(present, dtype=bool),
+        np.zeros(n, dtype=bool) if fallen is None else np.asarray(fallen, dtype=bool),
+        np.asarray(ball, dtype=np.float64),
+        o,
+        np.ones(len(o), dtype=bool) if opponents_present is None
+        else np.asarray(opponents_present, dtype=bool),
+    )
 
 
 class WorldModelError(TeamEnvError, ValueError):
@@ -79,8 +133,12 @@ class WorldModel:
 
     @classmethod
     def from_observation(cls, obs: Mapping[str, Any], me: int, field: FieldSpec,
-                         agent: str = "", roll: BallRoll | None = None) -> WorldModel:
-        """Build the world model of agent ``me`` from its Dict-form ``state`` observation."""
+                         agent: str = "", roll: BallRoll | None = None,
+                         resolution: float | None = BELIEF_RESOLUTION_M) -> WorldModel:
+        """Build the world model of agent ``me`` from its Dict-form ``state`` observation.
+
+        ``resolution``: positions are rounded to it (see ``BELIEF_RESOLUTION_M``); None keeps
+        the observation's values."""
         try:
             v = team_frame(obs)
         except (KeyError, TypeError, ValueError) as exc:
@@ -94,8 +152,9 @@ class WorldModel:
         n = len(v.teammates)
         # one rounding pass over everything: rows 0..n-1 teammates, n..2n-1 opponents, then
         # own position, ball, ball velocity
-        flat = _rounded(np.concatenate((v.teammates, v.opponents,
-                                        (v.position, v.ball, v.ball_velocity))))
+        flat = np.concatenate((v.teammates, v.opponents, (v.position, v.ball, v.ball_velocity)))
+        if resolution is not None:
+            flat = _rounded(flat, resolution)
         mates, opponents = flat[:n], flat[n:2 * n]
         position, ball, ball_velocity = flat[2 * n], flat[2 * n + 1], flat[2 * n + 2]
         mates[me] = position
@@ -188,8 +247,7 @@ class WorldModel:
         return when, path[first]
 
 
-def _rounded(values: NDArray[np.floating]) -> NDArray[np.float64]:
-    r = BELIEF_RESOLUTION_M
+def _rounded(values: NDArray[np.floating], r: float = BELIEF_RESOLUTION_M) -> NDArray[np.float64]:
     return np.round(np.asarray(values, dtype=np.float64) / r) * r + 0.0  # + 0.0: no -0.0
 
 

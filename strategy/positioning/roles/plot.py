@@ -7,8 +7,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
-from strategy.roles.assignment import Assignment
-from strategy.roles.voting import vote_matrix
+from strategy.positioning.roles.assignment import Assignment
+from strategy.positioning.roles.voting import vote_matrix
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes

@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from strategy.formation.model import Formation, FormationError, Role
+from strategy.positioning.formation.model import Formation, FormationError, Role
 from teamenv.field import FieldSpec
 
 AGENT2D_PITCH_M: tuple[float, float] = (105.0, 68.0)

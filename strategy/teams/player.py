@@ -10,14 +10,14 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
+from strategy.behaviours.control import ControlRequest
 from strategy.behaviours.skills import Skills
-from strategy.control import ControlRequest
 from strategy.decision import FieldPlayerDecisionMaker, GoalieDecisionMaker
-from strategy.formation.model import Formation
+from strategy.decision.setplays import Situation, situation, we_kick_off_next
+from strategy.perception.worldmodel import WorldModel, shared
 from strategy.positioning import PositioningAgent
-from strategy.setplays import Situation, situation, we_kick_off_next
+from strategy.positioning.formation.model import Formation
 from strategy.teams.full_config import FullTeamConfig
-from strategy.worldmodel import WorldModel, shared
 
 
 class Player:
@@ -52,9 +52,10 @@ class Player:
         goalie = defend.goalie_index
         if goalie is not None and me == goalie:
             self.decision: FieldPlayerDecisionMaker | GoalieDecisionMaker = \
-                GoalieDecisionMaker(config, skills, goalie, memo)
+                GoalieDecisionMaker(config.decision_params(), skills, goalie, memo)
         else:
-            self.decision = FieldPlayerDecisionMaker(config, skills, goalie, memo)
+            self.decision = FieldPlayerDecisionMaker(config.decision_params(), skills, goalie,
+                                                     memo)
         self.memo = memo
         self.last_request = ControlRequest()
 

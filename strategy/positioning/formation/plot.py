@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from strategy.formation.model import Formation
+from strategy.positioning.formation.model import Formation
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes

@@ -67,7 +67,7 @@ class Formation:
 
     Construct from roles and samples (every argument is validated; a bad one raises
     ``FormationError`` naming the formation, the field and the value), or read one with
-    ``strategy.formation.read_formation`` / ``builtin_formation`` / ``import_agent2d``.
+    ``strategy.positioning.formation.read_formation`` / ``builtin_formation`` / ``import_agent2d``.
 
     Args:
         roles: one ``Role`` per player, index i = uniform number i + 1 (role 0 is the goalie

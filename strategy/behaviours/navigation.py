@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from strategy.geometry import wrap_angle
 from teamenv.errors import ConfigError
 
 
@@ -115,15 +116,10 @@ def direction_to(position: ArrayLike, target: ArrayLike, obstacles: ArrayLike,
     # A potential field has local minima: obstacles squarely ahead cancel the attraction and
     # the walker stalls. When the field points more than 60 degrees off the target, go round
     # (60 degrees to the side the field leans to, left on an exact tie).
-    error = wrap(theta - straight)
+    error = wrap_angle(theta - straight)
     if abs(error) > math.pi / 3:
         return straight + math.copysign(math.pi / 3, error if error != 0 else 1.0)
     return theta
-
-
-def wrap(angle: float) -> float:
-    """``angle`` wrapped to [-pi, pi)."""
-    return (angle + math.pi) % (2.0 * math.pi) - math.pi
 
 
 def walk_command(position: ArrayLike, heading: float, target: ArrayLike,
@@ -148,16 +144,16 @@ def walk_command(position: ArrayLike, heading: float, target: ArrayLike,
         if fx * fx + fy * fy > 0.0025:
             face_angle = math.atan2(fy, fx)
     if dist < params.arrive_m:
-        turn = 0.0 if face_angle is None else wrap(face_angle - heading)
+        turn = 0.0 if face_angle is None else wrap_angle(face_angle - heading)
         return np.array([0.0, 0.0, params.turn_gain * turn])
     v = max(min(top, params.min_speed), top * min(1.0, dist / max(params.slow_down_m, 1e-9)))
     c, s = math.cos(heading), math.sin(heading)
     if dist < params.omni_m:
         local_x, local_y = c * dx + s * dy, -s * dx + c * dy
-        turn = 0.0 if face_angle is None else wrap(face_angle - heading)
+        turn = 0.0 if face_angle is None else wrap_angle(face_angle - heading)
         return np.array([v * local_x / dist, v * local_y / dist, params.turn_gain * turn])
     theta = direction_to(p, t, obstacles, params)
-    error = wrap(theta - heading)
+    error = wrap_angle(theta - heading)
     turn = params.turn_gain * error
     if abs(error) > params.turn_in_place_rad:
         return np.array([0.0, 0.0, turn])

@@ -15,9 +15,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from strategy.behaviours.ball import choose_pass, clear_ball, kick_to, pass_to
+from strategy.behaviours.control import ControlRequest
 from strategy.behaviours.skills import Skills
-from strategy.control import ControlRequest
-from strategy.worldmodel import WorldModel
+from strategy.perception.worldmodel import WorldModel
 from teamenv import PlayMode
 
 

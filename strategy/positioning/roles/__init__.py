@@ -1,6 +1,6 @@
 """Dynamic role assignment (MMD+MSD², exact; greedy baseline) and voting on role vectors."""
 
-from strategy.roles.assignment import (
+from strategy.positioning.roles.assignment import (
     Assignment,
     RoleAssignmentError,
     assign_roles,
@@ -8,7 +8,13 @@ from strategy.roles.assignment import (
     solve_greedy,
     solve_mmd_msd2,
 )
-from strategy.roles.voting import RoleVoter, VotingError, is_permutation, tally_votes, vote_matrix
+from strategy.positioning.roles.voting import (
+    RoleVoter,
+    VotingError,
+    is_permutation,
+    tally_votes,
+    vote_matrix,
+)
 
 __all__ = [
     "Assignment", "RoleAssignmentError", "RoleVoter", "VotingError", "assign_roles",

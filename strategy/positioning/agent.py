@@ -5,80 +5,30 @@ from its own observation) and the texts it heard; it holds no reference to any o
 Each cycle it
 
 1. looks up the formation's home positions for the ball it believes in;
-2. optionally replaces some by marking positions (``strategy.marking``);
-3. assigns positions to players by MMD+MSD² (``strategy.roles.assignment``) from the player
+2. optionally replaces some by marking positions (``strategy.positioning.marking``);
+3. assigns positions to players by MMD+MSD² (``strategy.positioning.roles.assignment``) from the player
    positions it believes in: its own *role vector*;
-4. says that vector (``strategy.roles.message``, with its uniform number);
+4. says that vector (``strategy.positioning.roles.message``, with its uniform number);
 5. tallies its own vector with the fresh vectors heard from teammates
-   (``strategy.roles.voting``) and takes the position the team voted for it.
+   (``strategy.positioning.roles.voting``) and takes the position the team voted for it.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
-from strategy.formation.model import Formation, FormationError
-from strategy.marking import MarkingParams, apply_marking
 from strategy.memo import memoized
-from strategy.roles.assignment import FALLEN_PENALTY_M, assign_roles
-from strategy.roles.message import decode_role_vote, encode_role_vote
-from strategy.roles.voting import DEFAULT_MAX_AGE_CYCLES, RoleVoter
+from strategy.perception.worldmodel import WorldModel, WorldView
+from strategy.positioning.formation.model import Formation, FormationError
+from strategy.positioning.marking import MarkingParams, apply_marking
+from strategy.positioning.roles.assignment import FALLEN_PENALTY_M, assign_roles
+from strategy.positioning.roles.message import decode_role_vote, encode_role_vote
+from strategy.positioning.roles.voting import DEFAULT_MAX_AGE_CYCLES, RoleVoter
 from teamenv.field import FieldSpec, field_preset
-from teamenv.observation import team_frame
-
-
-@dataclass(frozen=True)
-class WorldView:
-    """What one agent believes, in its team frame (metres; row k = uniform number k + 1).
-
-    Attributes:
-        players: (N, 2) teammate positions, own row included.
-        present: (N,) bool, False for teammates not on the field / unknown.
-        fallen: (N,) bool.
-        ball: (2,) ball position.
-        opponents: (M, 2) opponent positions.
-        opponents_present: (M,) bool.
-    """
-
-    players: NDArray[np.float64]
-    present: NDArray[np.bool_]
-    fallen: NDArray[np.bool_]
-    ball: NDArray[np.float64]
-    opponents: NDArray[np.float64]
-    opponents_present: NDArray[np.bool_]
-
-    @classmethod
-    def from_observation(cls, obs: Mapping[str, Any], me: int) -> WorldView:
-        """The world view of a Dict-form ``state`` observation (``teamenv.observation``)."""
-        v = team_frame(obs)
-        players = np.array(v.teammates, dtype=np.float64)
-        players[me] = v.position  # own row: exact, not rotated zeros
-        present = np.array(v.teammates_present, dtype=bool)
-        present[me] = True
-        fallen = np.array(v.teammates_fallen, dtype=bool)
-        fallen[me] = v.fallen
-        return cls(players, present, fallen, np.array(v.ball, dtype=np.float64),
-                   np.array(v.opponents, dtype=np.float64),
-                   np.array(v.opponents_present, dtype=bool))
-
-
-def heard_texts(obs: Mapping[str, Any]) -> list[str]:
-    """The non-empty texts of ``obs`` heard from teammates or from oneself (opponents' dropped)."""
-    texts = obs.get("heard_text", ())
-    info = np.asarray(obs.get("heard", np.zeros((0, 4))))
-    out = []
-    for k, text in enumerate(texts):
-        if not text or k >= len(info):
-            continue
-        present, from_self, from_mate = info[k, 0] > 0.5, info[k, 1] > 0.5, info[k, 2] > 0.5
-        if present and (from_self or from_mate):
-            out.append(text)
-    return out
 
 
 class PositioningDecision(NamedTuple):
@@ -158,8 +108,10 @@ class PositioningAgent:
 
     def step_observation(self, obs: Mapping[str, Any],
                          formation: Formation | None = None) -> PositioningDecision:
-        """``step`` on a Dict-form ``state`` observation (its own, and the texts it heard)."""
-        return self.step(WorldView.from_observation(obs, self.me), heard_texts(obs), formation)
+        """``step`` on a Dict-form ``state`` observation (its own, and the texts it heard),
+        through the agent's belief (``WorldModel``)."""
+        wm = WorldModel.from_observation(obs, self.me, self.field)
+        return self.step(wm.positioning_view(), wm.heard, formation)
 
     def step(self, view: WorldView, heard: Sequence[str] = (),
              formation: Formation | None = None,
@@ -218,21 +170,3 @@ class PositioningAgent:
 def _protected(f: Formation) -> tuple[int, ...]:
     gi = f.goalie_index
     return () if gi is None else (gi,)
-
-
-def world_view(players: ArrayLike, ball: ArrayLike, opponents: ArrayLike | None = None,
-               present: ArrayLike | None = None, fallen: ArrayLike | None = None,
-               opponents_present: ArrayLike | None = None) -> WorldView:
-    """A ``WorldView`` from arrays (metres, team frame); masks default to all present / upright."""
-    p = np.asarray(players, dtype=np.float64)
-    n = len(p)
-    o = np.zeros((0, 2)) if opponents is None else np.asarray(opponents, dtype=np.float64)
-    return WorldView(
-        p,
-        np.ones(n, dtype=bool) if present is None else np.asarray(present, dtype=bool),
-        np.zeros(n, dtype=bool) if fallen is None else np.asarray(fallen, dtype=bool),
-        np.asarray(ball, dtype=np.float64),
-        o,
-        np.ones(len(o), dtype=bool) if opponents_present is None
-        else np.asarray(opponents_present, dtype=bool),
-    )

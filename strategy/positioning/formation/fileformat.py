@@ -32,7 +32,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from strategy.formation.model import Formation, FormationError, Role
+from strategy.positioning.formation.model import Formation, FormationError, Role
 from teamenv.field import FIELD_PRESETS, FieldSpec
 
 FORMAT_NAME = "teamenv.formation"

@@ -9,7 +9,7 @@ A ``RoleSpec`` gives one player's home position as a clamped linear function of 
 ``parametric_formation`` evaluates the specs at a grid of sample ball positions and returns a
 Delaunay ``Formation`` (so the built-ins are ordinary formation files you can edit);
 ``static_formation`` makes a one-sample formation (kick-off line-ups).
-``write_builtins()`` regenerates ``strategy/formation/data/*.json``; a test checks that the
+``write_builtins()`` regenerates ``strategy/positioning/formation/data/*.json``; a test checks that the
 shipped files match.
 """
 
@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from strategy.formation.model import Formation, Role
+from strategy.positioning.formation.model import Formation, Role
 from teamenv.field import FieldSpec, field_preset
 
 GRID_U: tuple[float, ...] = (-1.0, -0.75, -0.5, -0.25, 0.0, 0.25, 0.5, 0.75, 1.0)
@@ -270,7 +270,7 @@ def build_builtins() -> dict[str, Formation]:
 
 def write_builtins(directory: str | Path = DATA_DIR) -> list[Path]:
     """Regenerate the built-in formation files (``<name>.json``) in ``directory``."""
-    from strategy.formation.fileformat import write_formation
+    from strategy.positioning.formation.fileformat import write_formation
 
     out = []
     for name, formation in build_builtins().items():

@@ -1,15 +1,15 @@
-"""The built-in formations shipped as JSON files in ``strategy/formation/data/``."""
+"""The built-in formations shipped as JSON files in ``strategy/positioning/formation/data/``."""
 
 from __future__ import annotations
 
 from functools import lru_cache
 from importlib import resources
 
-from strategy.formation.fileformat import formation_from_dict
-from strategy.formation.model import Formation, FormationError
+from strategy.positioning.formation.fileformat import formation_from_dict
+from strategy.positioning.formation.model import Formation, FormationError
 from teamenv.field import FieldSpec
 
-_PACKAGE = "strategy.formation"
+_PACKAGE = "strategy.positioning.formation"
 
 
 def builtin_formation_names() -> tuple[str, ...]:

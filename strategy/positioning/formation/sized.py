@@ -11,8 +11,8 @@ from __future__ import annotations
 
 from functools import lru_cache
 
-from strategy.formation.builtin import builtin_formation, builtin_formation_names
-from strategy.formation.model import Formation, FormationError
+from strategy.positioning.formation.builtin import builtin_formation, builtin_formation_names
+from strategy.positioning.formation.model import Formation, FormationError
 from teamenv.field import FieldSpec
 
 KINDS: tuple[str, ...] = ("attack", "defend", "kickoff-ours", "kickoff-theirs", "setplay-ours",

@@ -1,4 +1,4 @@
-"""Decision makers (seed 000 §2.4): a field player's and a goalie's.
+"""The field player's decision maker (seed 000 §2.4).
 
 A decision maker turns the agent's world model and its positioning decision (the position the
 team voted for it, marking included) into one ``ControlRequest`` per cycle by choosing among
@@ -17,20 +17,23 @@ from strategy.behaviours import (
     Skills,
     beam_to,
     dribble,
-    goalie_clear,
-    goalie_position,
-    goalie_target,
     hold_position,
     kick_to,
 )
 from strategy.behaviours.ball import in_kick_reach
+from strategy.behaviours.control import ControlRequest
 from strategy.behaviours.kick_choice import MIN_SHOT_CHANCE, best_kick
 from strategy.behaviours.motion import detour, go_to
-from strategy.control import ControlRequest
+from strategy.decision.params import DecisionParams
+from strategy.decision.setplays import (
+    Situation,
+    keep_distance,
+    set_play_taker,
+    situation,
+    take_set_play,
+)
+from strategy.perception.worldmodel import WorldModel, shared
 from strategy.positioning import PositioningDecision
-from strategy.setplays import Situation, keep_distance, set_play_taker, situation, take_set_play
-from strategy.teams.full_config import FullTeamConfig
-from strategy.worldmodel import WorldModel, shared
 
 MOVING_BALL_M_S = 1.0
 """Faster than this the ball is rolling (a kick), not being pushed in a dribble: players are
@@ -41,7 +44,7 @@ class FieldPlayerDecisionMaker:
     """Decides for a field player: play the ball when it is the team's ball player, else hold
     its voted formation (or marking) position; set plays and beaming by the play mode."""
 
-    def __init__(self, config: FullTeamConfig, skills: Skills, goalie: int | None,
+    def __init__(self, config: DecisionParams, skills: Skills, goalie: int | None,
                  memo: dict | None = None) -> None:
         self.config = config
         self.skills = skills
@@ -188,48 +191,3 @@ class FieldPlayerDecisionMaker:
         if choice.shot or clearance < c.pressure_m or choice.margin_s >= c.kick_min_margin_s:
             return kick_to(wm, choice.target, self.skills, power=choice.power, behaviour=name)
         return dribble(wm, wm.opponent_goal, self.skills, speed=c.dribble_speed)
-
-
-class GoalieDecisionMaker:
-    """Decides for the goalie: guard the goal on the ball line, clear a ball that comes close,
-    take our goal kicks, and beam to the goal at kick-offs."""
-
-    def __init__(self, config: FullTeamConfig, skills: Skills, goalie: int,
-                 memo: dict | None = None) -> None:
-        self.config = config
-        self.skills = skills
-        self.goalie = goalie
-        self.field_player = FieldPlayerDecisionMaker(config, skills, goalie, memo)
-
-    def reset(self) -> None:
-        self.field_player.reset()
-
-    def decide(self, wm: WorldModel, positioning: PositioningDecision) -> ControlRequest:
-        if wm.fallen:
-            return ControlRequest(behaviour="fallen")
-        now = situation(wm.play_mode)
-        if now in (Situation.BEAM, Situation.OVER, Situation.THEIR_SET_PLAY,
-                   Situation.THEIR_KICKOFF):
-            if now is Situation.BEAM or now is Situation.OVER:
-                return self.field_player.decide(wm, positioning)
-            return self.field_player.keep_away(wm, _at(positioning, self._guard(wm)),
-                                               kickoff=now is Situation.THEIR_KICKOFF)
-        if now is Situation.OUR_SET_PLAY and set_play_taker(wm, wm.play_mode,
-                                                            self.goalie) == wm.me:
-            return take_set_play(wm, self.skills, self.config.pass_max_m,
-                                 self.config.pass_lane_m)
-        if now is Situation.PLAY_ON and self.should_clear(wm):
-            return goalie_clear(wm, self.skills)
-        return goalie_position(wm, self.skills, self.config.goalie_line_m)
-
-    def should_clear(self, wm: WorldModel) -> bool:
-        """The ball is within ``goalie_clear_m`` of our goal centre, in front of the line."""
-        return (math.hypot(*(wm.ball - wm.own_goal)) <= self.config.goalie_clear_m
-                and wm.ball[0] > -wm.field.half_length)
-
-    def _guard(self, wm: WorldModel) -> np.ndarray:
-        return goalie_target(wm, self.config.goalie_line_m)
-
-
-def _at(decision: PositioningDecision, target: np.ndarray) -> PositioningDecision:
-    return decision._replace(target=target)

@@ -1,0 +1,1 @@
+"""Perception: the belief (world model) built from an observation, localization, filtering."""
