@@ -58,3 +58,23 @@ def test_heavy_dependencies_only_where_used():
     for path, names in imports_of("locomotion").items():
         if "humanoid" not in path:
             assert not {top(n) for n in names} & {"jax", "brax", "mujoco"}, path
+
+
+# The agent's layers, lowest first: each may import only the layers before it (and the shared
+# modules geometry and memo); none imports teams/.
+STRATEGY_LAYERS = ("perception", "positioning", "behaviours", "decision", "teams")
+
+
+@pytest.mark.parametrize("k", range(len(STRATEGY_LAYERS)))
+def test_strategy_layers_import_only_lower_layers(k):
+    layer = STRATEGY_LAYERS[k]
+    above = {f"strategy.{name}" for name in STRATEGY_LAYERS[k + 1:]}
+    for path, names in imports_of(f"strategy/{layer}").items():
+        bad = {n for n in names if any(n == a or n.startswith(a + ".") for a in above)}
+        assert not bad, f"{path} imports {sorted(bad)} (a layer above {layer})"
+
+
+def test_strategy_has_its_layers_as_folders():
+    for layer in STRATEGY_LAYERS:
+        assert (ROOT / "strategy" / layer / "__init__.py").is_file(), layer
+    assert not (ROOT / "strategy" / "worldmodel.py").exists()

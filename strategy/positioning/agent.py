@@ -115,7 +115,10 @@ class PositioningAgent:
 
     def step(self, view: WorldView, heard: Sequence[str] = (),
              formation: Formation | None = None,
-             view_key: bytes | None = None) -> PositioningDecision:
+             view_key: bytes | None = None, *,
+             votes: Sequence[tuple[int, NDArray[np.intp]]] | None = None,
+             own_ballot: NDArray[np.intp] | None = None,
+             vote: bool = True) -> PositioningDecision:
         """Decide this cycle's position from ``view`` and the ``heard`` texts; advance a cycle.
 
         Args:
@@ -124,6 +127,11 @@ class PositioningAgent:
             formation: use this formation this cycle instead of the default one (same size).
             view_key: bytes that identify ``view`` exactly (views with equal keys are equal),
                 used for the memo instead of the view's arrays; None: key on the arrays.
+            votes: (sender, role vector) pairs heard this cycle, already decoded from another
+                message type (then ``heard`` is not decoded).
+            own_ballot: the vector to count as this agent's own vote (e.g. the one it last
+                said, which is what its teammates hold); None: its fresh vector.
+            vote: False: take the position of its own vector (voting switched off).
         """
         f = self.formation if formation is None else formation
         if f.n_players != self.n:
@@ -133,10 +141,12 @@ class PositioningAgent:
             )
         cycle = self.cycle
         self.cycle += 1
-        for text in heard:
-            vote = decode_role_vote(text, self.n, self.channel)
-            if vote is not None and 0 <= vote[0] < self.n:
-                self.voter.hear(vote[0], vote[1], cycle, validate=False)  # decoder checked it
+        if votes is None:
+            votes = [v for v in (decode_role_vote(t, self.n, self.channel) for t in heard)
+                     if v is not None]
+        for sender, vector in votes:
+            if 0 <= sender < self.n:
+                self.voter.hear(sender, vector, cycle, validate=False)  # decoder checked it
         key = None
         if self.memo is not None:
             key = (f, self.marking, self.fallen_penalty_m, view_key) if view_key is not None \
@@ -144,7 +154,8 @@ class PositioningAgent:
                       view.players.tobytes(), view.present.tobytes(), view.fallen.tobytes(),
                       view.opponents.tobytes(), view.opponents_present.tobytes())
         positions, own = memoized(self.memo, key, lambda: self._assign(f, view))
-        team = self.voter.vote(own.position_of, cycle, validate=False)
+        ballot = own.position_of if own_ballot is None else own_ballot
+        team = self.voter.vote(ballot, cycle, validate=False) if vote else own.position_of
         k = int(team[self.me])
         say = ""
         if (cycle + self.me) % self.say_every == 0:
