@@ -147,14 +147,17 @@ class BallBelief:
 
     def belief(self, now_s: float) -> BallEstimate:
         """The ball as this agent believes it at ``now_s`` (see the module docstring)."""
+        return self.choose(now_s, self._own_basis(now_s), self._heard_basis(now_s))
+
+    def choose(self, now_s: float, own: _Basis | None, heard: _Basis | None) -> BallEstimate:
+        """The belief from the own and the heard basis (``belief`` computes both itself;
+        ``TeamBallBeliefs`` computes them for a whole team in batched DBSCAN calls)."""
         p = self.params
-        own = self._own_basis(now_s)
         if own is not None and now_s - own.time_s <= p.own_trust_s:
             chosen: _Basis | None = own
         else:
             # freshest first; on a tie: own, then heard, then the remembered one
-            candidates = [b for b in (own, self._heard_basis(now_s), self._last)
-                          if b is not None]
+            candidates = [b for b in (own, heard, self._last) if b is not None]
             chosen = max(candidates, key=lambda b: b.time_s) if candidates else None
         if chosen is None or now_s - chosen.time_s > p.forget_after_s:
             self._last = None
@@ -182,6 +185,10 @@ class BallBelief:
         newest = self._own.newest_s
         if est is None and newest is not None and newest <= now_s:
             est = self._own.estimate(newest)
+        return self.own_basis(est)
+
+    def own_basis(self, est: FilteredEstimate | None) -> _Basis | None:
+        """What an own-sightings estimate ``est`` says (None: nothing)."""
         if est is None:
             return None
         share = est.n / (est.n + est.outliers + est.rejected)
@@ -195,32 +202,58 @@ class BallBelief:
         """The reports' cluster now, else as it was at the newest report (the memory)."""
         basis = self._heard_cluster(now_s)
         if basis is None and self._heard:
-            newest = max(t for t, _ in self._heard.values())
-            if newest <= now_s:
-                basis = self._heard_cluster(newest)
+            basis = self.heard_memory(now_s)
         return basis
+
+    def has_heard(self) -> bool:
+        """Any report held (fresh or not)."""
+        return bool(self._heard)
+
+    def heard_memory(self, now_s: float) -> _Basis | None:
+        """The reports' cluster as it was at the newest report (all of them out of date)."""
+        newest = max(t for t, _ in self._heard.values())
+        return self._heard_cluster(newest) if newest <= now_s else None
 
     def _heard_cluster(self, now_s: float) -> _Basis | None:
         """The best cluster of the senders' latest fresh reports (cached on their content)."""
+        key, times, xy = self.heard_inputs(now_s)
+        if key in self._heard_cache:
+            return self._heard_cache[key]
+        stats = None
+        if len(times):
+            # min_samples 1: every report counts, even a lone teammate's
+            p = self.params
+            stats = cluster_objects(times, xy, np.ones(len(times)),
+                                    np.zeros(len(times), dtype=np.int64), 1, p.heard_eps_m,
+                                    1, p.recency_half_life_s, math.inf)
+        return self.heard_result(key, stats, 0, len(times))
+
+    def heard_inputs(self, now_s: float) -> tuple[tuple[int, bytes], NDArray[np.float64],
+                                                    NDArray[np.float64]]:
+        """(cache key, times, xy) of the fresh reports at ``now_s``, oldest first."""
         p = self.params
         reports = list(self._heard.values())  # insertion order: deterministic
         times = np.array([t for t, _ in reports], dtype=np.float64)
         fresh = (times >= now_s - p.heard_max_age_s) & (times <= now_s)
         key = (self._heard_version, fresh.tobytes())
-        if key in self._heard_cache:
-            return self._heard_cache[key]
+        index = np.flatnonzero(fresh)
+        index = index[np.argsort(times[index], kind="stable")]
+        xy = np.array([reports[i][1] for i in index]).reshape(-1, 2)
+        return key, times[index], xy
+
+    def heard_cached(self, key: tuple[int, bytes]) -> tuple[bool, _Basis | None]:
+        """(found, basis) of the heard cluster cached under ``key``."""
+        return key in self._heard_cache, self._heard_cache.get(key)
+
+    def heard_result(self, key: tuple[int, bytes], stats: dict | None, row: int,
+                     count: int) -> _Basis | None:
+        """Cache and return the heard basis from ``cluster_objects`` statistics (row
+        ``row``, over ``count`` fresh reports; None stats: no fresh report)."""
         basis = None
-        if fresh.any():
-            index = np.flatnonzero(fresh)
-            index = index[np.argsort(times[index], kind="stable")]
-            xy = np.array([reports[i][1] for i in index])
-            # min_samples 1: every report counts, even a lone teammate's
-            stats = cluster_objects(times[index], xy, np.ones(len(index)),
-                                    np.zeros(len(index), dtype=np.int64), 1, p.heard_eps_m,
-                                    1, p.recency_half_life_s, math.inf)
-            n = int(stats["n"][0])
-            basis = _Basis(stats["positions"][0].copy(), None, float(stats["newest_s"][0]),
-                           "heard", n / len(index), n)
+        if stats is not None and count:
+            n = int(stats["n"][row])
+            basis = _Basis(stats["positions"][row].copy(), None, float(stats["newest_s"][row]),
+                           "heard", n / count, n)
         if len(self._heard_cache) >= 4:  # "now" and "at the newest report", a few versions
             del self._heard_cache[next(iter(self._heard_cache))]
         self._heard_cache[key] = basis

@@ -437,6 +437,11 @@ class MultiObjectWindow:
         self._times.fill(-np.inf)
         self._version += 1
 
+    def clear_objects(self, objects: ArrayLike) -> None:
+        """Forget every sighting of ``objects`` (e.g. the ball, moved by the referee)."""
+        self._times[np.asarray(objects, dtype=np.intp)] = -np.inf
+        self._version += 1
+
     def add(self, time_s: float, objects: ArrayLike, xy: ArrayLike,
             weights: ArrayLike | None = None) -> None:
         """Add one frame: object ``objects[i]`` seen at ``xy[i]`` at ``time_s``.
