@@ -82,6 +82,20 @@ class BallRoll:
         direction = velocity / speed
         return ball + np.outer(self.travel(speed, times), direction)
 
+    def advance(self, ball: NDArray[np.float64], velocity: NDArray[np.float64],
+                seconds: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Where a ball at ``ball`` rolling with ``velocity`` is after ``seconds``, and its
+        velocity then (a ``strategy.perception.ball_belief.RollModel``)."""
+        speed = math.hypot(velocity[0], velocity[1])
+        if speed < 1e-6:
+            return np.array(ball, dtype=np.float64), np.zeros(2)
+        t = min(float(seconds), self.stop_time(speed))
+        a, c = self.linear_drag, self.rolling_decel
+        later = (speed + c / a) * math.exp(-a * t) - c / a if a > 1e-9 else speed - c * t
+        direction = velocity / speed
+        return (ball + direction * float(self.travel(speed, t)),
+                direction * max(0.0, later))
+
     def rest_point(self, ball: NDArray[np.float64],
                    velocity: NDArray[np.float64]) -> NDArray[np.float64]:
         """Where the ball stops (on a free pitch)."""

@@ -1,5 +1,5 @@
 """Motion behaviours: walk to a point around other players, hold a position, face the ball,
-beam, and keep out of a circle (the referee's distance at the other side's set plays)."""
+search for it, beam, and keep out of a circle (the referee's distance at the other side's set plays)."""
 
 from __future__ import annotations
 
@@ -42,6 +42,14 @@ def hold_position(wm: WorldModel, target: ArrayLike, skills: Skills,
         request = face_ball(wm, skills)
         return ControlRequest(walk=request.walk, behaviour=behaviour)
     return go_to(wm, t, skills, face=wm.ball, behaviour=behaviour)
+
+
+def search_ball(wm: WorldModel, skills: Skills) -> ControlRequest:
+    """Turn on the spot to bring the ball (and landmarks) into the view cone (``vision``
+    mode, when the agent has no idea where the ball is)."""
+    del wm
+    return ControlRequest(walk=np.array([0.0, 0.0, skills.navigation.search_turn]),
+                          behaviour="search_ball")
 
 
 def beam_to(pose: ArrayLike) -> ControlRequest:

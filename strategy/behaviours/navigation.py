@@ -46,6 +46,7 @@ class NavigationParams:
             instead of turning towards the target (a humanoid side-steps slowly), metres.
         min_speed: the slowest approach asked for outside ``arrive_m`` (the walk tracks very
             small commands poorly), m/s.
+        search_turn: turning rate while searching for the ball (``vision`` mode), rad/s.
     """
 
     k_attract: float = 1.0
@@ -58,6 +59,7 @@ class NavigationParams:
     turn_in_place_rad: float = 1.2
     omni_m: float = 0.4
     min_speed: float = 0.35
+    search_turn: float = 0.9
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.k_attract) and self.k_attract > 0):
@@ -67,7 +69,7 @@ class NavigationParams:
             raise ConfigError(f"NavigationParams.k_repulse: must be < 0 (eq. 6), "
                               f"got {self.k_repulse!r}")
         for name in ("influence_m", "max_speed", "slow_down_m", "arrive_m", "turn_gain",
-                     "turn_in_place_rad", "omni_m", "min_speed"):
+                     "turn_in_place_rad", "omni_m", "min_speed", "search_turn"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
                 raise ConfigError(f"NavigationParams.{name}: must be a finite number >= 0, "

@@ -107,6 +107,9 @@ class WorldModel:
         roll: the ball's drag model (to predict where a rolling ball goes).
         belief_key: bytes identifying everything but the own pose and the texts heard;
             teammates with equal keys believe the same about the pitch.
+        ball_age_s: how old the ball belief is (0 in ``state`` mode; inf: unknown, and
+            ``ball`` is only a placeholder).
+        pose_spread_m: the localization's position spread (0 in ``state`` mode).
     """
 
     me: int
@@ -130,6 +133,13 @@ class WorldModel:
     field: FieldSpec
     roll: BallRoll = BallRoll()
     belief_key: bytes = b""
+    ball_age_s: float = 0.0
+    pose_spread_m: float = 0.0
+
+    @property
+    def ball_known(self) -> bool:
+        """The agent has some idea where the ball is (``ball_age_s`` is finite)."""
+        return math.isfinite(self.ball_age_s)
 
     @classmethod
     def from_observation(cls, obs: Mapping[str, Any], me: int, field: FieldSpec,
