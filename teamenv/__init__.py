@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from teamenv.config import VISION_PROFILES, PerceptionConfig
 from teamenv.env import SoccerParallelEnv, parallel_env
 from teamenv.errors import (
     ActionError, ConfigError, MessageError, MissingExtraError, TeamEnvError, TeamFault,
@@ -27,6 +28,7 @@ def env(**kwargs: Any):
 
 __all__ = [
     "ActionError", "ConfigError", "FIELD_PRESETS", "FieldSpec", "MessageError",
-    "MissingExtraError", "PLAY_MODES", "PlayMode", "SoccerParallelEnv", "TeamEnvError",
+    "MissingExtraError", "PLAY_MODES", "PerceptionConfig", "PlayMode", "SoccerParallelEnv",
+    "TeamEnvError", "VISION_PROFILES",
     "TeamFault", "TeamLoadError", "env", "field_preset", "parallel_env",
 ]

@@ -63,6 +63,87 @@ class PhysicsConfig:
                 raise ConfigError(f"physics.{name}: must be in [0, 1], got {value!r}")
 
 
+@dataclass(frozen=True)
+class PerceptionConfig:
+    """The ``vision`` observation mode's camera (metres, degrees, cycles).
+
+    The defaults are the ``simspark`` profile (SimSpark's RestrictedVisionPerceptor); see
+    ``VISION_PROFILES`` for both league profiles.
+
+    Attributes:
+        update_period_cycles: a vision update on cycles where ``cycle % period == 0``; on
+            other cycles nothing is seen (every present mask 0).
+        fov_horizontal_deg, fov_vertical_deg: full opening angles of the camera's cone
+            (seen when ``|azimuth| <= fov_horizontal_deg / 2`` and ``|elevation| <=
+            fov_vertical_deg / 2``), in (0, 360].
+        min_distance_m: sightings closer than this (3D distance) are dropped.
+        distance_sigma_rel: distance noise, a fraction of the distance
+            (``d += d * N(0, distance_sigma_rel)``; SimSpark: 0.0965 % = 0.000965).
+        azimuth_sigma_deg, elevation_sigma_deg: angle noise (Gaussian, degrees).
+        calibration_error_m: a per-match, per-agent camera offset drawn uniformly in
+            ``±calibration_error_m`` per axis at reset and added to every camera-relative
+            vector before the polar conversion.
+        truncate_decimals: None, or round every value toward zero to this many decimals
+            (degrees for angles, metres for distances) as RCSSServerMJ does.
+        camera_height_m: the camera above the ground (hand-entered: NAO 0.5, T1 1.1).
+        landmark_kind: the landmark table (``teamenv.landmarks``): "simspark" or "mj".
+        lines: report the field lines (clipped to the horizontal cone).
+        occlusion: a sighting is hidden when a nearer player's disc covers its azimuth.
+        gyro_sigma_rad: noise of the gyro (the heading change of the cycle, rad).
+    """
+
+    update_period_cycles: int = 3
+    fov_horizontal_deg: float = 120.0
+    fov_vertical_deg: float = 120.0
+    min_distance_m: float = 0.1
+    distance_sigma_rel: float = 0.000965
+    azimuth_sigma_deg: float = 0.1480
+    elevation_sigma_deg: float = 0.1225
+    calibration_error_m: float = 0.005
+    truncate_decimals: int | None = None
+    camera_height_m: float = 0.5
+    landmark_kind: str = "simspark"
+    lines: bool = True
+    occlusion: bool = False
+    gyro_sigma_rad: float = 0.002
+
+    def __post_init__(self) -> None:
+        period = self.update_period_cycles
+        if isinstance(period, bool) or not isinstance(period, int) or period < 1:
+            raise ConfigError(f"perception.update_period_cycles: must be an int >= 1, got "
+                              f"{period!r}")
+        for name in ("fov_horizontal_deg", "fov_vertical_deg"):
+            value = getattr(self, name)
+            if not (_is_number(value) and 0.0 < value <= 360.0):
+                raise ConfigError(f"perception.{name}: must be in (0, 360], got {value!r}")
+        _positive(self, "camera_height_m")
+        _non_negative(self, "min_distance_m", "distance_sigma_rel", "azimuth_sigma_deg",
+                      "elevation_sigma_deg", "calibration_error_m", "gyro_sigma_rad")
+        dec = self.truncate_decimals
+        if dec is not None and (isinstance(dec, bool) or not isinstance(dec, int) or
+                                not 0 <= dec <= 6):
+            raise ConfigError(f"perception.truncate_decimals: must be None or an int in 0..6, "
+                              f"got {dec!r}")
+        if self.landmark_kind not in ("simspark", "mj"):
+            raise ConfigError(f"perception.landmark_kind: must be one of ['simspark', 'mj'], "
+                              f"got {self.landmark_kind!r}")
+        for name in ("lines", "occlusion"):
+            value = getattr(self, name)
+            if not isinstance(value, bool):
+                raise ConfigError(f"perception.{name}: must be True or False, got {value!r}")
+
+    @property
+    def noisy(self) -> bool:
+        """True when any sighting noise or calibration error is on."""
+        return (self.distance_sigma_rel > 0 or self.azimuth_sigma_deg > 0 or
+                self.elevation_sigma_deg > 0 or self.calibration_error_m > 0)
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and \
+        math.isfinite(value)
+
+
 def _positive(obj: Any, *names: str) -> None:
     for name in names:
         value = getattr(obj, name)
@@ -81,13 +162,14 @@ def _section(obj: Any) -> str:
     return _section_name(type(obj))
 
 
-def build_config(cls: type[T], value: T | Mapping[str, Any] | None) -> T:
-    """Return ``value`` as a ``cls``: None gives the defaults, a mapping overrides them.
+def build_config(cls: type[T], value: T | Mapping[str, Any] | None, base: T | None = None) -> T:
+    """Return ``value`` as a ``cls``: None gives the defaults (or ``base``), a mapping
+    overrides them.
 
     Unknown keys are an error, never ignored.
     """
     if value is None:
-        return cls()
+        return cls() if base is None else base
     if isinstance(value, cls):
         return value
     if not isinstance(value, Mapping):
@@ -98,8 +180,36 @@ def build_config(cls: type[T], value: T | Mapping[str, Any] | None) -> T:
         raise ConfigError(
             f"{_section_name(cls)}: unknown key(s) {unknown}; known keys are {sorted(known)}"
         )
-    return replace(cls(), **dict(value))
+    return replace(cls() if base is None else base, **dict(value))
 
 
 def _section_name(cls: type) -> str:
     return cls.__name__.removesuffix("Config").lower()
+
+
+#: The league's vision profiles (``observation_mode="vision"``, option ``vision=``).
+#: ``simspark``: SimSpark's RestrictedVisionPerceptor (an update every 3 cycles, 120° x 120°,
+#: noise sigma 0.0965 % of the distance, 0.1480° azimuth, 0.1225° elevation, calibration error
+#: up to 0.005 m per axis; flags, goal posts and lines; NAO camera height 0.5 m, hand-entered).
+#: ``mj``: RCSSServerMJ 0.2.1 (every 2nd cycle, ±60° both ways, no noise, markers only, values
+#: truncated to 2 decimals; T1 camera height 1.1 m, hand-entered).
+VISION_PROFILES: dict[str, PerceptionConfig] = {
+    "simspark": PerceptionConfig(),
+    "mj": PerceptionConfig(
+        update_period_cycles=2, distance_sigma_rel=0.0, azimuth_sigma_deg=0.0,
+        elevation_sigma_deg=0.0, calibration_error_m=0.0, truncate_decimals=2,
+        camera_height_m=1.1, landmark_kind="mj", lines=False, gyro_sigma_rad=0.0,
+    ),
+}
+
+
+def perception_config(vision: str | None,
+                      perception: PerceptionConfig | Mapping[str, Any] | None) -> PerceptionConfig:
+    """The profile ``vision`` (None: "simspark") with ``perception`` on top: a mapping
+    overrides single fields (unknown keys are an error), a PerceptionConfig replaces it."""
+    name = "simspark" if vision is None else vision
+    if not isinstance(name, str) or name not in VISION_PROFILES:
+        raise ConfigError(f"vision: unknown profile {vision!r}; choose one of "
+                          f"{sorted(VISION_PROFILES)}")
+    return build_config(PerceptionConfig, perception, base=VISION_PROFILES[name])
+

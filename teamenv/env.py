@@ -12,7 +12,9 @@ from pettingzoo import ParallelEnv
 import locomotion
 from teamenv import spaces as tspaces
 from teamenv.actions import ActionParser
-from teamenv.config import PhysicsConfig, RulesConfig, build_config
+from teamenv.config import (
+    PerceptionConfig, PhysicsConfig, RulesConfig, build_config, perception_config,
+)
 from teamenv.errors import ActionError, ConfigError, TeamFault
 from teamenv.field import FieldSpec, field_preset
 from teamenv.sim.playmode import PlayMode
@@ -20,7 +22,7 @@ from teamenv.sim.simulation import SIM_PHASES, Commands, CycleReport, Simulation
 from teamenv.teams import TeamContext, make_team
 
 SIDES = ("left", "right")
-OBSERVATION_MODES = ("state",)
+OBSERVATION_MODES = ("state", "vision")
 #: Keys of ``SoccerParallelEnv.timings()``, in the order of a cycle (see its docstring).
 TIMING_PHASES = ("actions", "team_left", "team_right", *SIM_PHASES, "other")
 
@@ -76,6 +78,28 @@ class SoccerParallelEnv(ParallelEnv):
         heard (K, 4): present, from self, from a teammate, direction (rad, body frame).
     ``observation_format="box"`` concatenates the numeric parts (play mode one-hot), no texts.
 
+    Observations (``observation_mode="vision"``): the league's restricted vision, profile
+    ``vision=`` ("simspark": SimSpark's RestrictedVisionPerceptor; "mj": RCSSServerMJ 0.2.1)
+    with ``perception=`` overrides (``teamenv.PerceptionConfig``). No own pose; polar
+    sightings ``present, distance (m), azimuth (rad, + left), elevation (rad, + up)`` from a
+    camera ``camera_height_m`` above the agent looking along its heading (the fixed head),
+    team frame, a new look every ``update_period_cycles`` (nothing seen on other cycles). Dict:
+        landmarks (K, 4): rows in ``teamenv.landmarks.landmarks(field, kind)`` order.
+        ball (4,): present, distance, azimuth, elevation.
+        teammates, opponents (N, 4): row k is uniform number k + 1 (own row never present).
+        lines (L, 7): present, d1, az1, el1, d2, az2, el2: the field lines of
+            ``teamenv.landmarks.field_lines(field)`` clipped to the horizontal cone
+            (L = 0 rows when the profile has no lines, as ``mj``).
+        vision (2,): fresh (1 on an update cycle), cycles since the last update.
+        counts (4,): landmarks, players and lines seen, ball seen (0/1).
+        odometry (3,): body-frame dx, dy (m), dpsi (rad) the walk engine believes it made
+            this cycle (with its slip and noise).
+        gyro (1,): the heading change of this cycle (rad) plus noise.
+        body (2,): fallen, head pan (rad; 0: the fixed head).
+        play_mode, game, heard_text, heard: as in ``state`` mode.
+    ``observation_format="box"``: landmarks, ball, teammates, opponents, lines, vision,
+    counts, odometry, gyro, body, play mode one-hot, game, heard, flattened in this order.
+
     Rewards: +1 to each agent of a team that scores, -1 to the other team; pass
     ``reward_fn(RewardInput) -> {agent: reward}`` to shape them. Episodes terminate at
     GameOver; ``max_cycles`` truncates. ``state()`` is a world-frame vector for centralized
@@ -105,6 +129,8 @@ class SoccerParallelEnv(ParallelEnv):
         rules: RulesConfig | Mapping[str, Any] | None = None,
         physics: PhysicsConfig | Mapping[str, Any] | None = None,
         observation_mode: str = "state",
+        vision: str | None = None,
+        perception: PerceptionConfig | Mapping[str, Any] | None = None,
         observation_format: str = "dict",
         action_format: str = "dict",
         channel: str = "simspark",
@@ -131,6 +157,16 @@ class SoccerParallelEnv(ParallelEnv):
             raise ConfigError(f"reward_fn: must be callable, got {reward_fn!r}")
         self.rules = build_config(RulesConfig, rules)
         self.physics = build_config(PhysicsConfig, physics)
+        if observation_mode == "vision":
+            self.perception: PerceptionConfig | None = perception_config(vision, perception)
+            self.vision: str | None = "simspark" if vision is None else vision
+        else:
+            for name, value in (("vision", vision), ("perception", perception)):
+                if value is not None:
+                    raise ConfigError(f"{name}: {value!r} given, but observation_mode is "
+                                      f"{observation_mode!r}; it applies to "
+                                      "observation_mode='vision' only")
+            self.perception = self.vision = None
         self.observation_mode = observation_mode
         self.observation_format = observation_format
         self.action_format = action_format
@@ -145,7 +181,8 @@ class SoccerParallelEnv(ParallelEnv):
             raise ConfigError(f"locomotion_profile: {exc}") from exc
         try:
             self.sim = Simulation(self.field, self.team_size, self.rules, self.physics, profile,
-                                  channel, profile_phases=profile_phases)
+                                  channel, profile_phases=profile_phases,
+                                  perception=self.perception)
         except (KeyError, ValueError) as exc:
             raise ConfigError(f"channel: {exc}") from exc
         self.channel_name = channel
@@ -163,7 +200,11 @@ class SoccerParallelEnv(ParallelEnv):
                                                   profile.command_high, channel_profile)
         else:
             act_space = tspaces.box_action_space()
-        if observation_format == "dict":
+        if self.sim.vision is not None:
+            layout = self.sim.vision.layout
+            obs_space = tspaces.vision_dict_observation_space(layout, channel_profile) \
+                if observation_format == "dict" else tspaces.vision_box_observation_space(layout)
+        elif observation_format == "dict":
             obs_space = tspaces.dict_observation_space(n, self.sim.heard_slots, channel_profile)
         else:
             obs_space = tspaces.box_observation_space(n, self.sim.heard_slots)
@@ -183,7 +224,10 @@ class SoccerParallelEnv(ParallelEnv):
                                   walk_high=tuple(float(v) for v in profile.command_high),
                                   kick_reach=float(profile.kick_reach),
                                   ball_linear_drag=self.physics.ball_linear_drag,
-                                  ball_rolling_decel=self.physics.ball_rolling_decel)
+                                  ball_rolling_decel=self.physics.ball_rolling_decel,
+                                  perception=self.perception, vision=self.vision,
+                                  landmark_kind=None if self.perception is None
+                                  else self.perception.landmark_kind)
             self.teams[side] = make_team(spec, context, config)
         self.team_agents = {side: [f"{side}_{k + 1}" for k in range(n)] for side in self.teams}
         self._team_agent_sets = {side: set(a) for side, a in self.team_agents.items()}
@@ -261,9 +305,12 @@ class SoccerParallelEnv(ParallelEnv):
 
     def _reset(self, seed: int | None):
         seed_seq = np.random.SeedSequence(seed)
-        env_seq, *team_seqs = seed_seq.spawn(3)
+        # Children are numbered: the first three are what they were before vision existed,
+        # so state mode is unchanged; the fourth is vision's own generator.
+        env_seq, team_left_seq, team_right_seq, vision_seq = seed_seq.spawn(4)
+        team_seqs = (team_left_seq, team_right_seq)
         self.np_random = np.random.default_rng(env_seq)
-        self.sim.reset(self.np_random)
+        self.sim.reset(self.np_random, np.random.default_rng(vision_seq))
         for k, (side, team) in enumerate(self.teams.items()):
             team_seed = int(team_seqs[k].generate_state(1)[0])
             t0 = self._clock()
@@ -374,7 +421,11 @@ class SoccerParallelEnv(ParallelEnv):
 
     def _refresh_observations(self) -> None:
         flat = self.observation_format == "box"
-        if self.teams and flat:
+        if self.sim.vision is not None:  # one look per cycle, in the forms needed
+            team_obs, flats = self.sim.observation_forms(dicts=bool(self.teams) or not flat,
+                                                         flat=flat)
+            self._obs_all = flats if flat else team_obs
+        elif self.teams and flat:
             team_obs = self.sim.observations(flat=False)
             self._obs_all = self.sim.observations(flat=True)
         else:

@@ -16,6 +16,7 @@ from teamenv.field import FieldSpec
 from teamenv.sim.perception import (
     BALL_DIM, GAME_DIM, HEARD_DIM, N_PLAY_MODES, PLAYER_DIM, SELF_DIM, flat_observation_size,
 )
+from teamenv.sim.vision import VisionLayout
 
 
 class Base64Text(spaces.Text):
@@ -89,6 +90,20 @@ def dict_observation_space(team_size: int, heard_slots: int, channel_profile: An
 
 def box_observation_space(team_size: int, heard_slots: int) -> spaces.Box:
     return _box((flat_observation_size(team_size, heard_slots),))
+
+
+def vision_dict_observation_space(layout: VisionLayout, channel_profile: Any) -> spaces.Dict:
+    """The Dict form of a ``vision`` observation (see ``teamenv.sim.vision.VisionLayout``)."""
+    parts: dict[str, spaces.Space] = {}
+    for key, shape in layout.parts:
+        parts[key] = spaces.Discrete(N_PLAY_MODES) if key == "play_mode" else _box(shape)
+    parts["heard_text"] = spaces.Tuple([say_space(channel_profile)] * layout.heard_slots)
+    return spaces.Dict(parts)
+
+
+def vision_box_observation_space(layout: VisionLayout) -> spaces.Box:
+    """The flat (Box) form of a ``vision`` observation, ``layout.size`` float32 values."""
+    return _box((layout.size,))
 
 
 def state_space(size: int) -> spaces.Box:

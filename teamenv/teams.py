@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from importlib.metadata import entry_points
 from typing import Any, Mapping, Protocol, runtime_checkable
 
+from teamenv.config import PerceptionConfig
 from teamenv.errors import TeamLoadError
 from teamenv.field import FieldSpec
 
@@ -37,6 +38,11 @@ class TeamContext:
         ball_linear_drag, ball_rolling_decel: the rolling ball slows by
             ``dv/dt = -ball_linear_drag * v - ball_rolling_decel`` (1/s, m/s²), so a team can
             predict where it stops.
+        perception: the camera of ``vision`` mode (``teamenv.PerceptionConfig``: update
+            period, cone, noise, camera height...), None in ``state`` mode.
+        vision: the vision profile's name ("simspark" or "mj"), None in ``state`` mode.
+        landmark_kind: the landmark table the sightings' ``landmarks`` rows follow
+            (``teamenv.landmarks.landmarks(field, landmark_kind)``), None in ``state`` mode.
     """
 
     side: str
@@ -52,6 +58,9 @@ class TeamContext:
     kick_reach: float = 0.35
     ball_linear_drag: float = 0.4
     ball_rolling_decel: float = 0.3
+    perception: PerceptionConfig | None = None
+    vision: str | None = None
+    landmark_kind: str | None = None
     extra: Mapping[str, Any] = field(default_factory=dict)
 
 

@@ -12,10 +12,11 @@ import numpy as np
 
 import comms
 import locomotion
-from teamenv.config import PhysicsConfig, RulesConfig
+from teamenv.config import PerceptionConfig, PhysicsConfig, RulesConfig
 from teamenv.field import FieldSpec
 from teamenv.sim.perception import HEARD_DIM, StatePerception
 from teamenv.sim.referee import Referee, RefereeEvent
+from teamenv.sim.vision import VisionPerception
 from teamenv.sim.world import World, wrap_angle
 
 #: Phases of a cycle timed by ``Simulation`` (see ``Simulation.phase_s``).
@@ -68,13 +69,19 @@ class Simulation:
     """The whole world of one match, stepped by arrays of commands. No RL API here.
 
     ``phase_s`` accumulates the wall-clock seconds spent in each phase of ``SIM_PHASES``
-    (``perception`` is ``observations()``) since construction or ``reset_timings()``; with
-    ``profile_phases=False`` the clock is not read and every entry stays 0.
+    (``perception`` is ``observations()``, true state or vision) since construction or
+    ``reset_timings()``; with ``profile_phases=False`` the clock is not read and every entry
+    stays 0.
+
+    ``perception``: None for ``state`` observations, a ``PerceptionConfig`` for ``vision``
+    (``self.vision`` then builds them). ``odometry`` (n, 3) is the walk engine's body-frame
+    displacement of the last cycle, ``turn`` (n,) the true heading change of its physics step
+    (beams and referee placements are teleports a gyro does not feel); both 0 after reset.
     """
 
     def __init__(self, field_spec: FieldSpec, team_size: int, rules: RulesConfig,
                  physics: PhysicsConfig, profile: locomotion.Profile, channel: str,
-                 profile_phases: bool = True) -> None:
+                 profile_phases: bool = True, perception: PerceptionConfig | None = None) -> None:
         self.field, self.team_size, self.rules, self.physics = field_spec, team_size, rules, physics
         self.n = 2 * team_size
         self.profile = profile
@@ -86,6 +93,11 @@ class Simulation:
         self.channel = comms.make_channel(channel, self.n, self.team_of)
         self.heard_slots = int(self.channel.profile.max_heard)
         self.perception = StatePerception(team_size, self.heard_slots)
+        self.vision = None if perception is None else VisionPerception(
+            field_spec, team_size, self.heard_slots, perception, profile.body_radius,
+            physics.ball_radius)
+        self.odometry = np.zeros((self.n, 3))
+        self.turn = np.zeros(self.n)
         self.cycle = 0
         self.rng = np.random.default_rng(0)
         self._clear_heard()
@@ -98,10 +110,16 @@ class Simulation:
         """Zero the per-phase wall-clock accounting."""
         self.phase_s = dict.fromkeys(SIM_PHASES, 0.0)
 
-    def reset(self, rng: np.random.Generator) -> None:
-        """Start a new match with the env's generator (the only randomness used)."""
+    def reset(self, rng: np.random.Generator,
+              vision_rng: np.random.Generator | None = None) -> None:
+        """Start a new match with the env's generator; ``vision_rng`` is vision's own (noise,
+        calibration; spawned from ``rng`` when not given). State mode uses ``rng`` only."""
         self.rng = rng
         self.cycle = 0
+        self.odometry = np.zeros((self.n, 3))
+        self.turn = np.zeros(self.n)
+        if self.vision is not None:
+            self.vision.reset(rng.spawn(1)[0] if vision_rng is None else vision_rng)
         self.bodies.reset()
         self.referee.reset()
         self.channel.reset()
@@ -149,6 +167,9 @@ class Simulation:
         acc["kick"] += t3 - t2
         self.world.step(velocity)
         touchers.extend(self.world.touches)
+        if self.vision is not None:
+            self.odometry = np.asarray(res.odometry, dtype=float)
+            self.turn = wrap_angle(self.world.player_poses()[:, 2] - h)
         t4 = clock()
         acc["physics"] += t4 - t3
 
@@ -245,12 +266,33 @@ class Simulation:
         return np.asarray(self.bodies.fallen, dtype=float)
 
     def observations(self, flat: bool = False) -> list:
+        """Every agent's observation (player order): Dict form, or flat rows when ``flat``.
+        In vision mode each call is a new look (noise drawn anew): use
+        ``observation_forms()`` for both forms of one look."""
+        if self.vision is not None:
+            dicts, rows = self.observation_forms(dicts=not flat, flat=flat)
+            return rows if flat else dicts
         t0 = self._clock()
         ref = self.referee
         out = self.perception.observe(
             self.world.player_poses(), self.world.player_velocities(), self.world.ball_state(),
             self.fallen(), ref.mode, ref.time_s, ref.half, ref.score, ref.attack_sign,
             self._heard_info, self._heard_texts, flat=flat)
+        self.phase_s["perception"] += self._clock() - t0
+        return out
+
+    def observation_forms(self, dicts: bool = True, flat: bool = True) -> tuple[list, list]:
+        """One look, in both forms: (Dict observations, flat rows); a form not asked for is
+        an empty list. Vision mode only."""
+        if self.vision is None:
+            raise RuntimeError("observation_forms() is for vision mode")
+        t0 = self._clock()
+        ref, vision = self.referee, self.vision
+        frame = vision.observe(
+            self.cycle, self.world.player_poses(), self.world.ball_state(), self.fallen(),
+            self.odometry, self.turn, ref.mode, ref.time_s, ref.half, ref.score,
+            ref.attack_sign, self._heard_info, self._heard_texts)
+        out = (vision.as_dicts(frame) if dicts else [], vision.as_flat(frame) if flat else [])
         self.phase_s["perception"] += self._clock() - t0
         return out
 
