@@ -21,6 +21,10 @@ def _add_match(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--half-time", type=float, default=300.0, help="length of a half (s)")
     p.add_argument("--halves", type=int, default=2)
     p.add_argument("--channel", default="simspark", help="say channel: simspark | mj")
+    p.add_argument("--observation", default="state", choices=("state", "vision"),
+                   help="observation mode of the teams: true state or the league's vision")
+    p.add_argument("--vision", default=None,
+                   help="vision profile with --observation vision: simspark (default) | mj")
     p.add_argument("--left-config", default="{}", help="JSON dict of the left team's config")
     p.add_argument("--right-config", default="{}", help="JSON dict of the right team's config")
     p.add_argument("--replay", type=Path, help="save a replay (.npz) here")
@@ -34,7 +38,8 @@ def _run_match(args: argparse.Namespace) -> int:
     from teamenv.match import MatchOptions, play_match
 
     options = MatchOptions(field=args.field, team_size=args.team_size, half_time_s=args.half_time,
-                           halves=args.halves, channel=args.channel)
+                           halves=args.halves, channel=args.channel,
+                           observation_mode=args.observation, vision=args.vision)
     replay_path = args.replay
     if args.gif and replay_path is None:
         replay_path = args.gif.with_suffix(".npz")

@@ -22,7 +22,11 @@ FORFEIT_SCORE = 3  # goals awarded to the opponent of a team that forfeits
 
 @dataclass(frozen=True)
 class MatchOptions:
-    """How a match is played (field preset, team size, half length in seconds, ...)."""
+    """How a match is played (field preset, team size, half length in seconds, ...).
+
+    ``observation_mode`` is "state" or "vision"; ``vision`` names the vision profile
+    ("simspark" or "mj"; None = "simspark") and is given only in vision mode.
+    """
 
     field: str = "simspark"
     team_size: int | None = None
@@ -31,6 +35,7 @@ class MatchOptions:
     observation_mode: str = "state"
     channel: str = "simspark"
     locomotion_profile: str = "t1_mj"
+    vision: str | None = None
 
     @classmethod
     def from_dict(cls, values: Mapping[str, Any]) -> MatchOptions:
@@ -39,6 +44,14 @@ class MatchOptions:
         if unknown:
             raise ConfigError(f"match options: unknown key(s) {unknown}; known: {sorted(known)}")
         return cls(**dict(values))
+
+    def to_dict(self) -> dict[str, Any]:
+        """The options as a dict; ``vision`` only when set, so the match keys and stored
+        definitions of tournaments made before the option existed stay what they were."""
+        out = asdict(self)
+        if out["vision"] is None:
+            del out["vision"]
+        return out
 
 
 @dataclass(frozen=True)
@@ -145,7 +158,7 @@ def play_match(
     env = SoccerParallelEnv(
         field=options.field, team_size=options.team_size, left=left, right=right,
         left_config=left_config, right_config=right_config, rules=rules,
-        observation_mode=options.observation_mode, channel=options.channel,
+        observation_mode=options.observation_mode, vision=options.vision, channel=options.channel,
         locomotion_profile=options.locomotion_profile, team_cycle_budget_s=cycle_time_budget_s)
     recorder = ReplayRecorder(env) if replay_path is not None else None
     forfeit: Forfeit | None = None
@@ -180,7 +193,7 @@ def play_match(
         options=options)
     if recorder:
         recorder.save(replay_path, metadata={
-            "left": left, "right": right, "seed": seed, "options": asdict(options),
+            "left": left, "right": right, "seed": seed, "options": options.to_dict(),
             "left_config": dict(left_config or {}), "right_config": dict(right_config or {}),
             "result": json.loads(json.dumps(result.to_dict(), default=str))})
     env.close()

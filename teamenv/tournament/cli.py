@@ -34,7 +34,10 @@ def add_tournament_commands(subparsers: argparse._SubParsersAction) -> None:
     run.add_argument("--team-size", type=int, default=None, help="players per side (1-11)")
     run.add_argument("--half-time", type=float, default=300.0, help="length of a half (s)")
     run.add_argument("--halves", type=int, default=2)
-    run.add_argument("--observation", default="state", help="observation mode of the teams")
+    run.add_argument("--observation", default="state", choices=("state", "vision"),
+                     help="observation mode of the teams")
+    run.add_argument("--vision", default=None, help="vision profile with --observation vision: "
+                     "simspark (default) | mj")
     run.add_argument("--channel", default="simspark", help="say channel: simspark | mj")
     run.add_argument("--cycle-budget", type=float, default=None,
                      help="a team whose act() takes longer (s) in any cycle forfeits")
@@ -94,7 +97,8 @@ def _definition(args: argparse.Namespace) -> Any:
 
     options = MatchOptions(field=args.field, team_size=args.team_size,
                            half_time_s=args.half_time, halves=args.halves,
-                           observation_mode=args.observation, channel=args.channel)
+                           observation_mode=args.observation, channel=args.channel,
+                           vision=args.vision)
     return Tournament(
         name=args.name or DEFAULT_NAME, teams=tuple(args.teams),
         format=args.format.replace("-", "_"), challenger=args.challenger,

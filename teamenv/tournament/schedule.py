@@ -11,7 +11,7 @@ from __future__ import annotations
 import hashlib
 import json
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -133,7 +133,7 @@ class Tournament:
             "teams": [t.to_json() for t in self.teams],
             "challenger": self.challenger.to_json() if self.challenger else None,
             "games_per_pairing": self.games_per_pairing, "swap_sides": self.swap_sides,
-            "seed": self.seed, "options": asdict(self.options),
+            "seed": self.seed, "options": self.options.to_dict(),
             "cycle_time_budget_s": self.cycle_time_budget_s,
             "stall_timeout_s": self.stall_timeout_s,
         }
@@ -180,7 +180,7 @@ class MatchTask:
     def key(self) -> str:
         """The match key: a hash of everything that determines the result."""
         return _digest({"left": self.left.to_json(), "right": self.right.to_json(),
-                        "options": asdict(self.options), "seed": self.seed,
+                        "options": self.options.to_dict(), "seed": self.seed,
                         "cycle_time_budget_s": self.cycle_time_budget_s,
                         "stall_timeout_s": self.stall_timeout_s})
 

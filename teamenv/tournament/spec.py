@@ -148,8 +148,8 @@ def validate_specs(specs: Iterable[TeamSpec], options: Any) -> dict[str, str]:
     if not isinstance(options, MatchOptions):
         raise TournamentConfigError(f"match options: expected MatchOptions, got {options!r}")
     kwargs = dict(field=options.field, team_size=options.team_size,
-                  observation_mode=options.observation_mode, channel=options.channel,
-                  locomotion_profile=options.locomotion_profile)
+                  observation_mode=options.observation_mode, vision=options.vision,
+                  channel=options.channel, locomotion_profile=options.locomotion_profile)
     try:
         rules = RulesConfig(half_time_s=options.half_time_s, halves=options.halves)
         SoccerParallelEnv(rules=rules, **kwargs).close()
