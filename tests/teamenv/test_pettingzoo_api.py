@@ -15,7 +15,15 @@ OPTION_MATRIX = [
     dict(team_size=3, right="chaser"),
     dict(team_size=2, left="static", observation_format="box"),
     dict(team_size=11),
+    *[dict(team_size=2, observation_mode="vision", **opts) for opts in (
+        dict(),
+        dict(observation_format="box"),
+        dict(vision="mj", field="mj7v7"),
+        dict(vision="mj", observation_format="box", channel="mj", perception={"occlusion": True}),
+        dict(right="tests.teamenv.vision_teams:BallTurner", observation_format="box"),
+    )],
 ]
+VISION = [opts for opts in OPTION_MATRIX if opts.get("observation_mode") == "vision"]
 
 
 def _ids(opts):
@@ -36,6 +44,11 @@ def test_aec_api(opts):
 def test_seed_tests(opts):
     parallel_seed_test(lambda: teamenv.parallel_env(max_cycles=100, **opts))
     seed_test(lambda: teamenv.env(max_cycles=60, **opts), num_cycles=60)
+
+
+@pytest.mark.parametrize("opts", VISION[:3], ids=_ids)
+def test_seed_tests_vision(opts):
+    parallel_seed_test(lambda: teamenv.parallel_env(max_cycles=100, **opts))
 
 
 def test_spaces_are_cached_objects():
