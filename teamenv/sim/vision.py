@@ -211,31 +211,29 @@ class VisionPerception:
         forward/left) inside the horizontal cone; ``t1 <= t0`` where nothing is inside.
         Beyond 180° the visible region is not convex: the longer remaining piece is kept."""
         h = self._half_h
-        ones = np.ones_like(af)
         if h >= math.pi:
-            return np.zeros_like(af), ones
+            return np.zeros_like(af), np.ones_like(af)
         c, s = math.cos(h), math.sin(h)
-        # g1 >= 0: left of the right boundary ray; g2 >= 0: right of the left boundary ray.
-        g1a, g1b = c * al + s * af, c * bl + s * bf
-        g2a, g2b = s * af - c * al, s * bf - c * bl
+        # g[0] >= 0: left of the right boundary ray; g[1] >= 0: right of the left one.
+        k = np.array((c, -c))[:, None, None]
+        ga = s * af + k * al
+        gb = s * bf + k * bl
         with np.errstate(divide="ignore", invalid="ignore"):
-            t1 = g1a / (g1a - g1b)
-            t2 = g2a / (g2a - g2b)
+            t = ga / (ga - gb)  # where g crosses 0 along the segment
+        neg_a, neg_b = ga < 0, gb < 0
         if h <= math.pi / 2:  # convex wedge: the intersection of both half-planes
-            lo = np.maximum(np.where(g1a < 0, t1, 0.0), np.where(g2a < 0, t2, 0.0))
-            hi = np.minimum(np.where(g1b < 0, t1, 1.0), np.where(g2b < 0, t2, 1.0))
-            empty = ((g1a < 0) & (g1b < 0)) | ((g2a < 0) & (g2b < 0))
-            hi = np.where(empty, -1.0, hi)
-            lo = np.where(empty, 0.0, lo)
-            return lo, hi
-        # Wider than 180°: the excluded wedge behind is where both g1 < 0 and g2 < 0.
-        lo = np.maximum(np.where(g1a >= 0, t1, 0.0), np.where(g2a >= 0, t2, 0.0))
-        hi = np.minimum(np.where(g1b >= 0, t1, 1.0), np.where(g2b >= 0, t2, 1.0))
-        none = ((g1a >= 0) & (g1b >= 0)) | ((g2a >= 0) & (g2b >= 0)) | (hi <= lo)
+            lo = np.where(neg_a, t, 0.0).max(axis=0)
+            hi = np.where(neg_b, t, 1.0).min(axis=0)
+            empty = (neg_a & neg_b).any(axis=0)
+            return np.where(empty, 0.0, lo), np.where(empty, -1.0, hi)
+        # Wider than 180°: the excluded wedge behind is where both g < 0.
+        lo = np.where(neg_a, 0.0, t).max(axis=0)
+        hi = np.where(neg_b, 1.0, t).min(axis=0)
+        none = (~neg_a & ~neg_b).any(axis=0) | (hi <= lo)
         first_longer = lo >= 1.0 - hi
         t0 = np.where(none | first_longer, 0.0, hi)
-        t1_ = np.where(none, 1.0, np.where(first_longer, lo, 1.0))
-        return t0, t1_
+        t1 = np.where(none, 1.0, np.where(first_longer, lo, 1.0))
+        return t0, t1
 
     # -- the observation -------------------------------------------------------------------
     def observe(
