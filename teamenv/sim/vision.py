@@ -18,7 +18,8 @@ walk engine believes it moved this cycle) and a gyro (its true heading change pl
 
 A sighting is reported when it lies in the cone (``|azimuth| <= fov_horizontal_deg / 2``,
 ``|elevation| <= fov_vertical_deg / 2``) and is at least ``min_distance_m`` away, both checked
-on the reported (noisy, truncated) values, so every present sighting lies inside the cone.
+on the reported (noisy, truncated) values, so every present point sighting lies inside the
+cone (line endpoints are clipped on the noise-free geometry, then get their noise).
 The pipeline per sighting: camera-relative vector + the agent's calibration error -> polar ->
 noise (distance ``d += d * N(0, distance_sigma_rel)``, azimuth and elevation Gaussian) ->
 truncation toward zero (degrees / metres, ``truncate_decimals``) -> cone and distance checks ->
@@ -152,6 +153,7 @@ class VisionPerception:
             np.zeros((0, 4))
         self.layout = vision_layout(field, team_size, heard_slots, config)
         self._off = self.layout.offsets
+        self._size = self.layout.size
         # Player columns of each agent: own team first (uniform order), then the opponents.
         order = [np.arange(n), np.r_[np.arange(team_size, n), np.arange(team_size)]]
         self._cols = np.stack([order[t] for t in self._team_list])
@@ -247,7 +249,7 @@ class VisionPerception:
         ``odometry`` (n, 3): the walk engine's body-frame displacement this cycle; ``turn``
         (n,): the true heading change of the cycle (the gyro adds its noise)."""
         n, cfg, off = self.n, self.config, self._off
-        rows = np.zeros((n, self.layout.size))
+        rows = np.zeros((n, self._size))
         period = cfg.update_period_cycles
         fresh = cycle % period == 0
         if cfg.gyro_sigma_rad > 0:
