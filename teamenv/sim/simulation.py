@@ -74,9 +74,10 @@ class Simulation:
     stays 0.
 
     ``perception``: None for ``state`` observations, a ``PerceptionConfig`` for ``vision``
-    (``self.vision`` then builds them). ``odometry`` (n, 3) is the walk engine's body-frame
-    displacement of the last cycle, ``turn`` (n,) the true heading change of its physics step
-    (beams and referee placements are teleports a gyro does not feel); both 0 after reset.
+    (``self.vision`` then builds them). In vision mode ``odometry`` (n, 3) is the walk engine's
+    body-frame displacement of the last cycle (``Bodies.step``'s ``odometry``) and ``turn``
+    (n,) the true heading change of its physics step (beams and referee placements are
+    teleports a gyro does not feel); both are 0 after reset and stay 0 in state mode.
     """
 
     def __init__(self, field_spec: FieldSpec, team_size: int, rules: RulesConfig,
