@@ -13,7 +13,11 @@ import locomotion
 from teamenv import spaces as tspaces
 from teamenv.actions import ActionParser
 from teamenv.config import (
-    PerceptionConfig, PhysicsConfig, RulesConfig, build_config, perception_config,
+    PerceptionConfig,
+    PhysicsConfig,
+    RulesConfig,
+    build_config,
+    perception_config,
 )
 from teamenv.errors import ActionError, ConfigError, TeamFault
 from teamenv.field import FieldSpec, field_preset

@@ -35,8 +35,9 @@ cycle, and the gyro noise every cycle.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -203,7 +204,8 @@ class VisionPerception:
 
     def _in_cone(self, az: np.ndarray, el: np.ndarray) -> np.ndarray:
         if self._scale is not None:  # compare the truncated degrees, as RCSSServerMJ does
-            az_deg, el_deg = _trunc(np.degrees(az), self._scale), _trunc(np.degrees(el), self._scale)
+            scale = self._scale
+            az_deg, el_deg = _trunc(np.degrees(az), scale), _trunc(np.degrees(el), scale)
             return (np.abs(az_deg) <= self._half_h_deg) & (np.abs(el_deg) <= self._half_v_deg)
         return (np.abs(az) <= self._half_h) & (np.abs(el) <= self._half_v)
 
@@ -410,6 +412,6 @@ class VisionPerception:
             if key != "play_mode":
                 a, b = off[key]
                 arrays.append(out[:, a:b].reshape((n, *shape)))
-        return [dict(zip(keys, values), play_mode=mode, heard_text=texts)
+        return [dict(zip(keys, values, strict=True), play_mode=mode, heard_text=texts)
                 for *values, mode, texts in zip(*arrays, frame.team_modes, frame.heard_texts,
                                                 strict=True)]
