@@ -1,10 +1,15 @@
-"""Strength of the built-in teams: the full team against chaser, static and silent.
+"""Strength of the built-in teams: seeded head-to-head matches with confidence intervals.
 
     python benchmarks/strategy_strength.py              # 10 seeded 7 v 7 matches of 2 x 60 s each
     python benchmarks/strategy_strength.py --seeds 20 --jobs 2 --json out/strength.json
+    python benchmarks/strategy_strength.py --observation vision --seeds 20 --first-seed 1000 \
+        --pairings full:silent,full:chaser,full:static
 
 Each pairing plays one match per seed with sides alternating (``teamenv.headtohead``), on the
-``mj7v7`` pitch with 7 players a side, and prints the aggregate score and record.
+``mj7v7`` pitch with 7 players a side by default, and prints the aggregate score, the record
+and the mean goal difference per match with a 95 % bootstrap confidence interval
+(``scipy.stats.bootstrap``, BCa, over matches). Goals are rare: read the interval, not the
+aggregate. ``--first-seed`` picks seeds nobody tuned on.
 """
 
 from __future__ import annotations
@@ -13,31 +18,63 @@ import argparse
 import json
 import time
 
+import numpy as np
+from scipy.stats import bootstrap
+
 from teamenv.headtohead import head_to_head
 from teamenv.match import MatchOptions
 
-PAIRINGS = (("full", "chaser"), ("full", "static"), ("full", "silent"), ("chaser", "static"))
+PAIRINGS = "full:chaser,full:static,full:silent,chaser:static"
+
+
+def goal_difference_ci(scores: tuple[tuple[int, int], ...],
+                       confidence: float = 0.95) -> tuple[float, float, float]:
+    """(mean, low, high): mean goal difference per match of A over B and its bootstrap
+    interval (a degenerate sample, e.g. all 0-0, gives the point itself)."""
+    diff = np.array([a - b for a, b in scores], dtype=np.float64)
+    mean = float(diff.mean())
+    if len(diff) < 2 or np.all(diff == diff[0]):
+        return mean, mean, mean
+    res = bootstrap((diff,), np.mean, confidence_level=confidence, n_resamples=4000,
+                    method="BCa", random_state=np.random.default_rng(0))
+    return mean, float(res.confidence_interval.low), float(res.confidence_interval.high)
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=10)
+    parser.add_argument("--first-seed", type=int, default=0)
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--field", default="mj7v7")
     parser.add_argument("--team-size", type=int, default=7)
     parser.add_argument("--half-time", type=float, default=60.0)
+    parser.add_argument("--observation", default="state", choices=("state", "vision"))
+    parser.add_argument("--vision", default=None, help="vision profile (simspark or mj)")
+    parser.add_argument("--channel", default="simspark")
+    parser.add_argument("--pairings", default=PAIRINGS,
+                        help="comma-separated a:b team pairs (default: %(default)s)")
     parser.add_argument("--json", help="write the results here")
     args = parser.parse_args()
     options = MatchOptions(field=args.field, team_size=args.team_size,
-                           half_time_s=args.half_time)
+                           half_time_s=args.half_time, observation_mode=args.observation,
+                           vision=args.vision, channel=args.channel)
+    seeds = tuple(range(args.first_seed, args.first_seed + args.seeds))
+    print(f"{args.field} {args.team_size} v {args.team_size}, 2 x {args.half_time:g} s, "
+          f"observation {args.observation}"
+          f"{'' if args.vision is None else ' (' + args.vision + ')'}, channel {args.channel}, "
+          f"seeds {seeds[0]}..{seeds[-1]}", flush=True)
     rows = []
-    for a, b in PAIRINGS:
+    for pair in args.pairings.split(","):
+        a, b = pair.split(":")
         start = time.perf_counter()
-        result = head_to_head(a, b, args.seeds, options, jobs=args.jobs)
+        result = head_to_head(a, b, seeds, options, jobs=args.jobs)
         wall = time.perf_counter() - start
-        print(f"{result.summary()}  [{wall:.0f} s]", flush=True)
+        mean, low, high = goal_difference_ci(result.scores)
+        print(f"{result.summary()}  goal difference per match {mean:+.2f} "
+              f"[95 % CI {low:+.2f}, {high:+.2f}]  [{wall:.0f} s]", flush=True)
         rows.append({"team_a": a, "team_b": b, "goals": result.goals, "record": result.record,
-                     "scores": result.scores, "forfeits": result.forfeits, "wall_s": wall})
+                     "scores": result.scores, "forfeits": result.forfeits, "wall_s": wall,
+                     "goal_difference": {"mean": mean, "ci95": [low, high]}})
     if args.json:
         with open(args.json, "w", encoding="utf-8") as fh:
             json.dump({"options": vars(args), "results": rows}, fh, indent=2)

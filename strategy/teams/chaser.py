@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from strategy.perception.worldmodel import WorldModel
-from strategy.teams.common import kick_toward, walk_to
+from strategy.teams.common import Beliefs, kick_toward, walk_to
 from teamenv import PlayMode
 from teamenv.teams import TeamContext
 
@@ -29,16 +29,16 @@ class ChaserTeam:
         self.kick_reach = context.kick_reach * 0.9 if kick_reach is None else float(kick_reach)
         self.all_chase = bool(all_chase)
         self.goal = np.array([context.field.half_length, 0.0])
-        self.index = {agent: k for k, agent in enumerate(context.agents)}
+        self.beliefs = Beliefs(context)
 
     def reset(self, seed: int) -> None:
-        self.rng = np.random.default_rng(seed)
+        self.beliefs.reset(seed)
 
     def act(self, observations: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[str, Any]]:
-        return {agent: self._decide(obs, self.index[agent]) for agent, obs in observations.items()}
+        return {agent: self._decide(view)
+                for agent, view in self.beliefs.update(observations).items()}
 
-    def _decide(self, obs: Mapping[str, Any], me: int) -> dict[str, Any]:
-        view = WorldModel.from_observation(obs, me, self.context.field, resolution=None)
+    def _decide(self, view: WorldModel) -> dict[str, Any]:
         if view.play_mode.name not in OWN_KICKABLE or view.fallen:
             return {"walk": np.zeros(3)} if view.play_mode != PlayMode.PlayOn else \
                 {"walk": walk_to(view, view.ball, *self.bounds, face=view.ball)}

@@ -1,13 +1,40 @@
-"""Small geometric helpers the simple built-in teams share: walking to a point, kicking."""
+"""What the simple built-in teams share: their beliefs in either mode, walking to a point,
+kicking."""
 
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 
 from strategy.geometry import to_body, wrap_angle
+from strategy.perception.vision_perceiver import VisionPerceiver
 from strategy.perception.worldmodel import WorldModel
+from teamenv.teams import TeamContext
+
+
+class Beliefs:
+    """Each agent's ``WorldModel`` from its own observation: read directly in ``state``
+    mode (unrounded), through localization and filtering in ``vision`` mode (no talking)."""
+
+    def __init__(self, context: TeamContext) -> None:
+        self.field = context.field
+        self.index = {agent: k for k, agent in enumerate(context.agents)}
+        self.perceiver = VisionPerceiver(context, communicate=False) \
+            if context.observation_mode == "vision" else None
+
+    def reset(self, seed: int) -> None:
+        if self.perceiver is not None:
+            self.perceiver.reset(seed)
+
+    def update(self, observations: Mapping[str, Mapping[str, Any]]) -> dict[str, WorldModel]:
+        if self.perceiver is not None:
+            return self.perceiver.update(observations)
+        return {agent: WorldModel.from_observation(obs, self.index[agent], self.field,
+                                                   resolution=None)
+                for agent, obs in observations.items()}
 
 
 def walk_to(view: WorldModel, target: np.ndarray, low: tuple, high: tuple,

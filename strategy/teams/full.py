@@ -14,6 +14,7 @@ import numpy as np
 
 from strategy.behaviours.skills import Skills
 from strategy.geometry import BallRoll
+from strategy.perception.vision_perceiver import VisionPerceiver
 from strategy.positioning.formation.sized import team_formation
 from strategy.teams.full_config import FullTeamConfig
 from strategy.teams.player import Player
@@ -34,9 +35,9 @@ class FullTeam:
     defaults: Mapping[str, Any] = {}
 
     def __init__(self, context: TeamContext, **config: Any) -> None:
-        if context.observation_mode != "state":
-            raise ConfigError(f"{self.name} team: needs observation mode 'state' (its world "
-                              f"model reads true positions), got {context.observation_mode!r}")
+        if context.observation_mode not in ("state", "vision"):
+            raise ConfigError(f"{self.name} team: plays in observation mode 'state' or "
+                              f"'vision', got {context.observation_mode!r}")
         self.context = context
         self.config = FullTeamConfig.from_overrides(self.name, {**self.defaults, **config})
         self.low = np.asarray(context.walk_low, dtype=np.float64)
@@ -52,15 +53,31 @@ class FullTeam:
         memo: dict = {}  # pure results by exact inputs, shared (see strategy.memo)
         self.players = {
             agent: Player(k, agent, context.side, self.config, formations, self.skills,
-                          context.channel, memo)
+                          context.channel, memo, context.cycle_s)
             for k, agent in enumerate(context.agents)
         }
+        self.perceiver = VisionPerceiver(
+            context, communicate=self.config.communicate,
+            localization=self.config.localization_params(),
+            roll=self.skills.ball_roll) if context.observation_mode == "vision" else None
 
     def reset(self, seed: int) -> None:
-        del seed  # the team's decisions are deterministic
+        # decisions are deterministic; the seed drives the particle filters of vision mode
         for player in self.players.values():
             player.reset()
+        if self.perceiver is not None:
+            self.perceiver.reset(seed)
 
     def act(self, observations: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[str, Any]]:
-        return {agent: self.players[agent].act(obs).to_action(self.low, self.high)
-                for agent, obs in observations.items()}
+        if self.perceiver is None:
+            return {agent: self.players[agent].act(obs).to_action(self.low, self.high)
+                    for agent, obs in observations.items()}
+        beliefs = self.perceiver.update(observations)
+        out = {}
+        for agent, wm in beliefs.items():
+            player = self.players[agent]
+            request = player.decide(wm, self.perceiver.reports[player.me])
+            if request.beam is not None:
+                self.perceiver.beamed(player.me, request.beam)
+            out[agent] = request.to_action(self.low, self.high)
+        return out

@@ -12,6 +12,7 @@ from dataclasses import dataclass, fields
 
 from strategy.behaviours.navigation import NavigationParams
 from strategy.decision.params import DecisionParams
+from strategy.perception.localization import LocalizationParams
 from strategy.positioning.formation.builtin import builtin_formation_names
 from strategy.positioning.formation.sized import KINDS
 from strategy.positioning.marking import MarkingParams
@@ -64,7 +65,12 @@ class FullTeamConfig:
     Communication:
         communicate: say the role vector and vote with the heard ones (False: each agent
             follows its own role vector; the "silent" team).
-        say_every: say every this many cycles (staggered by uniform number).
+        vote: adopt the team's vote (False: follow the own role vector but still talk; with
+            ``communicate`` it measures what voting alone is worth).
+        say_every: say every this many cycles (staggered by uniform number; ``state`` mode;
+            in ``vision`` mode one teammate talks every 2 cycles in uniform-number order).
+    Perception (``vision`` mode): localization_particles: particles per agent of the Monte
+        Carlo localization.
     Navigation (seed 001 eq. 6-10): nav_k_repulse (< 0), nav_influence_m, nav_max_speed.
     """
 
@@ -91,6 +97,8 @@ class FullTeamConfig:
     goalie_clear_m: float = 3.5
     set_play_clearance_m: float = 2.6
     communicate: bool = True
+    vote: bool = True
+    localization_particles: int = 100
     say_every: int = 1
     nav_k_repulse: float = -0.35
     nav_influence_m: float = 1.6
@@ -117,9 +125,9 @@ class FullTeamConfig:
                                       f"got {value!r}")
             elif f.type in ("int", int):
                 if isinstance(value, bool) or not isinstance(value, int) or value < (
-                        1 if f.name == "say_every" else 0):
+                        1 if f.name in ("say_every", "localization_particles") else 0):
                     raise ConfigError(f"full team config: {f.name} must be an integer >= "
-                                      f"{1 if f.name == 'say_every' else 0}, got {value!r}")
+                                      f"{1 if f.name in ('say_every', 'localization_particles') else 0}, got {value!r}")
             elif f.name == "nav_k_repulse":
                 if not (isinstance(value, (int, float)) and math.isfinite(value) and value < 0):
                     raise ConfigError(f"full team config: nav_k_repulse must be < 0 (a "
@@ -154,6 +162,10 @@ class FullTeamConfig:
     def decision_params(self) -> DecisionParams:
         """The decision makers' share of this config (fields of the same names)."""
         return DecisionParams(**{f.name: getattr(self, f.name) for f in fields(DecisionParams)})
+
+    def localization_params(self) -> LocalizationParams:
+        """Monte Carlo localization of ``vision`` mode (particles per agent)."""
+        return LocalizationParams(n_particles=self.localization_particles)
 
     def navigation_params(self) -> NavigationParams:
         return NavigationParams(k_repulse=self.nav_k_repulse, influence_m=self.nav_influence_m,

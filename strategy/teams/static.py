@@ -7,8 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from strategy.perception.worldmodel import WorldModel
-from strategy.teams.common import walk_to
+from strategy.teams.common import Beliefs, walk_to
 from teamenv.teams import TeamContext
 
 
@@ -28,16 +27,14 @@ class StaticTeam:
             y = f.half_width * 0.8 * (((k + 1) / (rest + 1)) * 2 - 1)
             x = -f.half_length * depth * (0.9 if k % 2 else 0.5)
             spots.append(np.array([x, y]))
-        self.index = {agent: k for k, agent in enumerate(context.agents)}
         self.spots = {agent: spots[k] for k, agent in enumerate(context.agents)}
+        self.beliefs = Beliefs(context)
 
     def reset(self, seed: int) -> None:
-        del seed  # no randomness
+        self.beliefs.reset(seed)  # vision mode's particle filters; the decisions are fixed
 
     def act(self, observations: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[str, Any]]:
         out = {}
-        for agent, obs in observations.items():
-            view = WorldModel.from_observation(obs, self.index[agent], self.context.field,
-                                               resolution=None)
+        for agent, view in self.beliefs.update(observations).items():
             out[agent] = {"walk": walk_to(view, self.spots[agent], *self.bounds, face=view.ball, speed=0.6)}
         return out

@@ -121,10 +121,16 @@ def test_registered_entry_points():
 
 
 @pytest.mark.parametrize("name", ["full", "silent"])
-def test_rejects_vision_observations_clearly(name):
-    with pytest.raises(ConfigError, match="state") as info:
+def test_rejects_unknown_observation_modes_clearly(name):
+    with pytest.raises(ConfigError, match="'state' or 'vision'") as info:
+        make_team(name, context(observation_mode="radar"))
+    assert "radar" in str(info.value)
+
+
+@pytest.mark.parametrize("name", ["full", "silent", "chaser", "static"])
+def test_vision_mode_without_a_perception_config_is_a_clear_error(name):
+    with pytest.raises(ConfigError, match="vision"):
         make_team(name, context(observation_mode="vision"))
-    assert "vision" in str(info.value)
 
 
 # -- messages --------------------------------------------------------------------------------------
