@@ -13,8 +13,9 @@ The cycle (seed 000 §3):
   (eq. 2; ``odometry_scale``, by default the inverse of the engine's 1.1, 1.1, 1.05), and
   applied to each particle in its own body frame (eq. 3) with process noise of standard
   deviation ``motion_noise_rel * |d'| + motion_noise_abs`` per channel. With ``use_gyro``
-  (the default) and a gyro reading given, the gyro's heading change replaces ``gamma dpsi``:
-  it is the true turn plus 0.002 rad of noise, odometry's is 5 % noise on a biased scale.
+  (the default) and a gyro reading given, the gyro's heading change replaces ``gamma dpsi``
+  (noise ``gyro_noise_rad``): it is the true turn plus 0.002 rad of noise and it feels what
+  the walk engine does not (pushes, slips); odometry's turn is 5 % noise on a biased scale.
 - **Sensor update** (vision cycles only, ``correct``): log-likelihood per particle, summed
   over independent sightings (eq. 1):
 
@@ -111,8 +112,9 @@ class LocalizationParams:
     Particles: ``n_particles`` per agent (100: the smallest count of the benchmark
     ``benchmarks/localization.py`` that meets the error targets with a margin).
     Motion (seed 000 eq. 2-3): ``odometry_scale`` (alpha, beta, gamma) multiplies the
-    odometry's dx, dy, dpsi; ``use_gyro``: the gyro's heading change replaces dpsi when given;
-    process noise per cycle and channel ``motion_noise_rel * |d'| + motion_noise_abs``.
+    odometry's dx, dy, dpsi; process noise per cycle and channel ``motion_noise_rel * |d'| +
+    motion_noise_abs``; ``use_gyro``: the gyro's heading change replaces dpsi when given, with
+    noise ``gyro_noise_rad`` (SimSpark's gyro: 0.002 rad per cycle).
     Landmarks: ``distance_model`` ("ground": d cos(el) vs the ground distance; "3d": d vs the
     3D distance from the camera), ``sigma_distance_rel`` * distance + ``sigma_distance_m``,
     ``sigma_bearing_deg``.
@@ -132,16 +134,17 @@ class LocalizationParams:
     odometry_scale: tuple[float, float, float] = (1.0 / 1.1, 1.0 / 1.1, 1.0 / 1.05)
     use_gyro: bool = True
     motion_noise_rel: tuple[float, float, float] = (0.1, 0.1, 0.1)
-    motion_noise_abs: tuple[float, float, float] = (0.002, 0.002, 0.003)
+    motion_noise_abs: tuple[float, float, float] = (0.004, 0.004, 0.004)
+    gyro_noise_rad: float = 0.002
     distance_model: str = "ground"
-    sigma_distance_rel: float = 0.02
+    sigma_distance_rel: float = 0.003
     sigma_distance_m: float = 0.06
     sigma_bearing_deg: float = 1.5
     use_lines: bool = True
-    line_weight: float = 0.5
+    line_weight: float = 1.0
     line_points: int = 8
     sigma_line_m: float = 0.06
-    sigma_line_rel: float = 0.02
+    sigma_line_rel: float = 0.01
     line_cap_m: float = 1.0
     line_grid_m: float = 0.05
     resample_ess: float = 0.5
@@ -150,7 +153,7 @@ class LocalizationParams:
     lost_quality: float = 0.05
     lost_share: float = 0.5
     max_reset_share: float = 0.5
-    reset_sigma_distance_rel: float = 0.01
+    reset_sigma_distance_rel: float = 0.002
     reset_sigma_bearing_deg: float = 0.5
     reset_sigma_heading_deg: float = 5.0
     field_margin_m: float = 1.0
@@ -179,12 +182,12 @@ class LocalizationParams:
                 raise bad(name, "3 finite numbers >= 0")
         if not all(v > 0 for v in self.odometry_scale):
             raise bad("odometry_scale", "3 finite numbers > 0")
-        positive = ("sigma_distance_m", "sigma_bearing_deg", "line_weight", "sigma_line_m",
+        positive = ("gyro_noise_rad", "sigma_distance_m", "sigma_bearing_deg", "line_weight", "sigma_line_m",
                     "line_cap_m", "line_grid_m", "beam_sigma_m", "beam_sigma_deg",
                     "reset_sigma_heading_deg")
         non_negative = ("sigma_distance_rel", "sigma_line_rel", "reset_sigma_distance_rel",
                         "reset_sigma_bearing_deg", "field_margin_m")
-        unit = ("resample_ess", "alpha_slow", "alpha_fast", "lost_share", "max_reset_share")
+        unit = ("resample_ess", "alpha_slow", "alpha_fast")
         for name in positive:
             if not (_number(getattr(self, name)) and getattr(self, name) > 0):
                 raise bad(name, "a finite number > 0")
@@ -194,6 +197,9 @@ class LocalizationParams:
         for name in unit:
             if not (_number(getattr(self, name)) and 0 < getattr(self, name) <= 1):
                 raise bad(name, "a number in (0, 1]")
+        for name in ("lost_share", "max_reset_share"):
+            if not (_number(getattr(self, name)) and 0 <= getattr(self, name) <= 1):
+                raise bad(name, "a number in [0, 1] (0: no sensor resetting)")
         if not (_number(self.lost_quality) and 0 <= self.lost_quality < 1):
             raise bad("lost_quality", "a number in [0, 1)")
         if self.alpha_slow >= self.alpha_fast:
@@ -438,6 +444,8 @@ class BatchLocalizer:
         if not np.isfinite(d).all():
             raise LocalizationError(f"predict: odometry and gyro must be finite, got {d!r}")
         sigma = np.abs(d) * self._noise_rel + self._noise_abs       # (R, 3)
+        if gyro is not None and self.params.use_gyro:
+            sigma[:, 2] = self.params.gyro_noise_rad
         step = self.rng.standard_normal((3, r, self.n))
         step *= sigma.T[:, :, None]
         step += d.T[:, :, None]
@@ -536,7 +544,9 @@ class BatchLocalizer:
         rows = self._rows(agents)
         r = self._count(rows)
         lm = np.asarray(landmarks, dtype=np.float64).reshape(r, len(self._lm), 4)
-        li = None if lines is None else np.asarray(lines, dtype=np.float64).reshape(r, -1, 7)
+        li = None if lines is None else np.asarray(lines, dtype=np.float64)
+        if li is not None:
+            li = li.reshape(r, -1, 7) if li.size else None
         s = self._sightings(lm, li)
         weight = s.weight
         active = weight > 0
@@ -675,13 +685,18 @@ class BatchLocalizer:
     def estimate(self) -> PoseEstimate:
         """Every agent's pose (A, 3) and covariance (A, 3, 3) (see ``PoseEstimate``)."""
         if self._estimate is None:
-            w = self.weights
+            w = np.exp(self._logw)  # normalized log-weights
+            w /= w.sum(axis=1, keepdims=True)
             x, y, h = self._p
+            trig = np.stack((np.cos(h), np.sin(h)))
             mx, my = (w * x).sum(axis=1), (w * y).sum(axis=1)
-            mh = np.arctan2((w * np.sin(h)).sum(axis=1), (w * np.cos(h)).sum(axis=1))
-            dev = np.stack((x - mx[:, None], y - my[:, None],
-                            (h - mh[:, None] + np.pi) % (2.0 * np.pi) - np.pi), axis=-1)
-            cov = np.einsum("an,ani,anj->aij", w, dev, dev)
+            mc, ms = (trig * w).sum(axis=2)
+            mh = np.arctan2(ms, mc)
+            dev = np.empty((self.n_agents, 3, self.n))
+            np.subtract(x, mx[:, None], out=dev[:, 0])
+            np.subtract(y, my[:, None], out=dev[:, 1])
+            dev[:, 2] = (h - mh[:, None] + np.pi) % (2.0 * np.pi) - np.pi
+            cov = np.matmul(dev * w[:, None, :], dev.transpose(0, 2, 1))
             self._estimate = PoseEstimate(np.stack((mx, my, mh), axis=1), cov)
         return PoseEstimate(self._estimate.pose.copy(), self._estimate.covariance.copy())
 

@@ -288,7 +288,8 @@ def test_two_landmark_candidates_contain_the_true_pose():
 
 
 def test_motion_update_applies_the_scaled_odometry_in_each_particles_frame():
-    loc = localizer(0, motion_noise_rel=(0.0, 0.0, 0.0), motion_noise_abs=(1e-12,) * 3)
+    loc = localizer(0, motion_noise_rel=(0.0, 0.0, 0.0), motion_noise_abs=(1e-12,) * 3,
+                    gyro_noise_rad=1e-12)
     loc.beamed((1.0, 2.0, math.pi / 2), spread=(0.0, 0.0))
     loc.predict((0.11, 0.0, 0.0))  # 0.11 reported = 0.1 made (alpha = 1/1.1)
     np.testing.assert_allclose(loc.estimate().pose, (1.0, 2.1, math.pi / 2), atol=1e-9)
@@ -403,3 +404,52 @@ def test_bad_arguments_are_clear_errors():
         batch.beamed(0, (1.0, float("nan"), 0.0))
     assert LocalizationParams.from_overrides({"odometry_scale": [1, 1, 1]}).odometry_scale \
         == (1, 1, 1)
+
+
+# -- in the env -----------------------------------------------------------------------------
+def _team_frame(poses: np.ndarray, sign: float) -> np.ndarray:
+    out = poses.copy()
+    if sign < 0:  # the right team's frame: the world rotated by pi
+        out[:, :2] *= -1.0
+        out[:, 2] = (out[:, 2] + 2.0 * np.pi) % (2.0 * np.pi) - np.pi
+    return out
+
+
+@pytest.mark.parametrize("vision", ["simspark", "mj"])
+def test_localizes_every_agent_in_the_env_vision_mode(vision):
+    import teamenv
+
+    env = teamenv.parallel_env(observation_mode="vision", vision=vision, field="mj7v7",
+                               team_size=2, profile_phases=False)
+    obs, _ = env.reset(seed=3)
+    cam = env.perception
+    teams = {side: [a for a in env.agents if a.startswith(side)] for side in ("left", "right")}
+    locs = {side: BatchLocalizer(2, env.field, cam.landmark_kind, cam.camera_height_m,
+                                 LocalizationParams(), np.random.default_rng(k))
+            for k, side in enumerate(teams)}
+    kidnap, victim = 451, 1  # the second left player, teleported between two looks
+    pos_err, head_err = [], []
+    for t in range(900):
+        world = env.sim.world.player_poses()
+        errs, heads = [], []
+        for side, agents in teams.items():
+            est = locs[side].observe([obs[a] for a in agents])
+            sign = env.sim.referee.attack_sign[0 if side == "left" else 1]
+            rows = slice(0, 2) if side == "left" else slice(2, 4)
+            truth = _team_frame(world[rows], sign)
+            errs.append(np.hypot(*(est.pose[:, :2] - truth[:, :2]).T))
+            heads.append(np.abs((est.pose[:, 2] - truth[:, 2] + np.pi) % (2 * np.pi) - np.pi))
+        pos_err.append(np.concatenate(errs))
+        head_err.append(np.concatenate(heads))
+        actions = {a: {"walk": np.array([0.8, 0.1 * math.sin(t / 20.0),
+                                         0.6 * math.sin(t / 70.0 + i)], dtype=np.float32)}
+                   for i, a in enumerate(env.agents)}
+        if t == kidnap - 1:  # moved before the step: odometry and gyro do not feel it
+            env.sim.world.place_player(victim, 5.0, -8.0, 2.5)
+        obs, *_ = env.step(actions)
+    pos_err, head_err = np.array(pos_err), np.array(head_err)
+    assert env.sim.referee.mode.name == "PlayOn"  # the walk went on through the kick-off
+    settled = np.r_[50:kidnap, kidnap + 100:900]
+    assert math.sqrt(np.mean(pos_err[settled] ** 2)) < 0.2, np.percentile(pos_err, [50, 95])
+    assert pos_err[settled].max() < 0.5 and head_err[settled].max() < math.radians(10.0)
+    assert pos_err[kidnap, victim] > 5.0  # the teleport was news to it
