@@ -9,6 +9,7 @@ Usage:
     python benchmarks/match_speed.py                        # full vs full, 2 x 300 s
     python benchmarks/match_speed.py --left chaser --right chaser --half-time 60
     python benchmarks/match_speed.py --repeat 3 --json      # best of 3, JSON on stdout
+    python benchmarks/match_speed.py --observation vision   # the cost of perception
 
 The target (issue 5): a full simspark match between two full teams in under 60 s, i.e. at
 least 500 cycles/s, on the 2-core development machine. Set OPENBLAS_NUM_THREADS=1 on a busy
@@ -54,11 +55,13 @@ def resolve(name: str, explicit: bool) -> str:
 
 
 def play(left: str, right: str, field: str, team_size: int | None, half_time_s: float,
-         seed: int) -> dict[str, Any]:
+         seed: int, observation_mode: str = "state", vision: str | None = None
+         ) -> dict[str, Any]:
     """One whole match; returns wall time (construction excluded), cycles and timings."""
     start_build = time.perf_counter()
     env = SoccerParallelEnv(field=field, team_size=team_size, left=left, right=right,
-                            rules=RulesConfig(half_time_s=half_time_s))
+                            rules=RulesConfig(half_time_s=half_time_s),
+                            observation_mode=observation_mode, vision=vision)
     build_s = time.perf_counter() - start_build
     start = time.perf_counter()
     env.reset(seed=seed)
@@ -72,6 +75,7 @@ def play(left: str, right: str, field: str, team_size: int | None, half_time_s: 
     return {
         "left": left, "right": right, "field": env.field.name, "team_size": env.team_size,
         "half_time_s": half_time_s, "seed": seed, "cycles": env.sim.cycle,
+        "observation_mode": observation_mode, "vision": vision,
         "score": list(env.sim.referee.score), "goals": goals,
         "construct_s": build_s, "wall_s": wall, "cycles_per_s": env.sim.cycle / wall,
         "timings_s": timings,
@@ -87,7 +91,9 @@ def report(runs: list[dict[str, Any]]) -> str:
         f"{platform.machine()}, {os.cpu_count()} CPUs",
         f"{best['left']} vs {best['right']} on {best['field']}, {best['team_size']} v "
         f"{best['team_size']}, 2 x {best['half_time_s']:g} s = {cycles} cycles, seed "
-        f"{best['seed']}, score {best['score'][0]}-{best['score'][1]}",
+        f"{best['seed']}, score {best['score'][0]}-{best['score'][1]}, observation "
+        f"{best['observation_mode']}"
+        f"{'' if best['vision'] is None else ' (' + best['vision'] + ')'}",
     ]
     if len(runs) > 1:
         lines.append("wall times of the repeats: " + ", ".join(f"{r['wall_s']:.2f} s"
@@ -133,11 +139,15 @@ def main(argv: list[str] | None = None) -> None:
                         help="players per side (default: the field's, 11 on simspark)")
     parser.add_argument("--repeat", type=int, default=1, help="matches to play; best is shown")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--observation", default="state", choices=("state", "vision"),
+                        help="observation mode (vision: the teams localize and filter)")
+    parser.add_argument("--vision", default=None, help="vision profile (simspark or mj)")
     parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
     args = parser.parse_args(argv)
     left = resolve(args.left or DEFAULT_TEAM, explicit=args.left is not None)
     right = resolve(args.right or DEFAULT_TEAM, explicit=args.right is not None)
-    runs = [play(left, right, args.field, args.team_size, args.half_time, args.seed)
+    runs = [play(left, right, args.field, args.team_size, args.half_time, args.seed,
+                 args.observation, args.vision)
             for _ in range(max(1, args.repeat))]
     if args.json:
         best = min(runs, key=lambda r: r["wall_s"])

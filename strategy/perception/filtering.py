@@ -273,6 +273,8 @@ def _dbscan_class() -> Any:
 def _dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float64], eps: float,
                    min_samples: int) -> NDArray[np.int64]:
     """DBSCAN labels (-1 = noise) of ``points``; see the module docstring for the cost."""
+    if min_samples <= 1 and bool(np.all(weights >= 1.0)):
+        return _single_linkage_labels(points, eps)
     import sklearn
 
     dbscan = _dbscan_class()
@@ -280,9 +282,31 @@ def _dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float64], ep
     with sklearn.config_context(skip_parameter_validation=True, assume_finite=True):
         # a ball tree: brute force runs an OpenMP pool that stalls on 2 busy cores (~30 ms a
         # call) and grows quadratically with a batched team window
+        # unit weights are passed as None: with weights sklearn sums each neighbourhood's
+        # weights in a Python loop (one np.sum per point), which dominated a team's cost
+        unit = bool(np.all(weights == 1.0))
         model = dbscan(eps=eps, min_samples=min_samples, algorithm="ball_tree").fit(
-            points, sample_weight=weights)
+            points, sample_weight=None if unit else weights)
     return np.asarray(model.labels_, dtype=np.int64)
+
+
+def _single_linkage_labels(points: NDArray[np.float64], eps: float) -> NDArray[np.int64]:
+    """DBSCAN's labels when every point is a core point (min_samples 1): the connected
+    components of the graph joining points within ``eps`` (SciPy's KD-tree and csgraph;
+    sklearn's fixed ~1 ms per call would dominate the small, frequent clusterings of heard
+    reports), numbered in order of first appearance as DBSCAN numbers them."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    n = len(points)
+    pairs = cKDTree(points).query_pairs(eps, output_type="ndarray")
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    _, labels = connected_components(graph, directed=False)
+    _, first = np.unique(labels, return_index=True)
+    rank = np.empty(len(first), dtype=np.int64)
+    rank[np.argsort(first, kind="stable")] = np.arange(len(first))
+    return rank[labels]
 
 
 def _recency(age: NDArray[np.float64], half_life: float) -> NDArray[np.float64]:

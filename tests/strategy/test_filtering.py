@@ -392,3 +392,16 @@ def test_a_tight_cluster_is_kept_whole_and_moves_with_the_sightings(offset, n, s
     assert (a.position >= points.min(axis=0) - 1e-9).all()
     assert (a.position <= points.max(axis=0) + 1e-9).all()
     np.testing.assert_allclose(b.position, a.position + np.asarray(offset), atol=1e-9)
+
+
+def test_min_samples_one_fast_path_labels_like_sklearn_dbscan():
+    from sklearn.cluster import DBSCAN
+
+    from strategy.perception.filtering import _dbscan_labels
+
+    rng = np.random.default_rng(7)
+    for _ in range(200):
+        n = int(rng.integers(1, 15))
+        pts = rng.normal(size=(n, 3)) * rng.uniform(0.2, 3.0)
+        expected = DBSCAN(eps=1.0, min_samples=1).fit(pts).labels_
+        np.testing.assert_array_equal(_dbscan_labels(pts, np.ones(n), 1.0, 1), expected)
