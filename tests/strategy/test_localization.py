@@ -114,12 +114,14 @@ def sightings(pose, field: FieldSpec, kind: str, height: float, noise: Noise,
 
 def synthetic_walk(seed: int, seconds: float, field: str | FieldSpec = "simspark",
                    kind: str = "simspark", height: float = 0.5, period: int = 3,
-                   noise: Noise = Noise(), start=None, beams=(), lines: bool = True,
-                   speed: float = 0.8, margin: float = 2.0, aim=None) -> Walk:
+                   noise: Noise = Noise(), start=None, beams=(), pushes=(),
+                   lines: bool = True, speed: float = 0.8, margin: float = 2.0,
+                   aim=None) -> Walk:
     """A player walking between random waypoints ``margin`` inside the touch lines (or to the
     fixed point ``aim``), at up to ``speed`` m/s forward (a little sideways), turning toward
     the waypoint at up to 1.5 rad/s. ``beams``: ``(cycle, pose)``: the referee teleports the
-    player at that cycle (the odometry and gyro do not see it)."""
+    player at that cycle, ``pushes``: ``(cycle, (dx, dy, dpsi))``: something shoves it by that
+    much (team frame) at that cycle; the odometry and gyro see neither."""
     field = field_preset(field)
     rng = np.random.default_rng(seed)
     hl, hw = field.half_length - margin, field.half_width - margin
@@ -129,12 +131,14 @@ def synthetic_walk(seed: int, seconds: float, field: str | FieldSpec = "simspark
     target = np.array(aim) if aim is not None else rng.uniform((-hl, -hw), (hl, hw))
     calibration = rng.uniform(-1.0, 1.0, 3) * noise.calibration_m
     cycles = int(round(seconds / CYCLE_S))
-    beams = dict(beams)
+    beams, pushes = dict(beams), dict(pushes)
     poses, observations = [], []
     delta = np.zeros(3)
     for t in range(cycles + 1):
         if t in beams:
             pose = np.array(beams[t], dtype=np.float64)
+        if t in pushes:
+            pose = pose + np.asarray(pushes[t], dtype=np.float64)
         odometry = delta * OVER_REPORT * (1.0 + noise.odometry_rel * rng.standard_normal(3))
         gyro = delta[2] + noise.gyro_rad * rng.standard_normal()
         obs = {"odometry": odometry, "gyro": np.array([gyro]),
@@ -221,6 +225,36 @@ def test_recovers_from_a_beam_to_an_unknown_pose_within_2_s(seed):
     after = slice(kidnap + 100, None)  # 2 s later and on
     assert pos[after].max() < 0.3 and head[after].max() < math.radians(10.0), \
         (pos[after].max(), head[after].max())
+
+
+def test_recovers_from_pushes_the_odometry_missed():
+    rng = np.random.default_rng(8)
+    pushes = [(int(t), (rng.uniform(-0.4, 0.4), rng.uniform(-0.4, 0.4), rng.normal(0, 0.15)))
+              for t in (200, 420, 640, 860)]
+    walk = synthetic_walk(9, 20.0, pushes=pushes)
+    loc = localizer(3)
+    loc.beamed(walk.poses[0])
+    pos, head = errors(walk, run(walk, loc))
+    for t, _ in pushes:  # within 1 s of each push it is back
+        assert pos[t + 50:t + 200].max() < 0.3 and head[t + 50:t + 200].max() < 0.1
+
+
+def test_sensor_resetting_uses_the_two_post_closed_form(monkeypatch):
+    import strategy.perception.localization as module
+
+    calls = []
+    real = module.two_post_candidates
+
+    def counting(*args):
+        calls.append(len(np.atleast_1d(args[0])))
+        return real(*args)
+
+    monkeypatch.setattr(module, "two_post_candidates", counting)
+    walk = synthetic_walk(0, 1.0, start=(8.0, 0.5, 0.0), aim=(15.0, 0.0))
+    loc = localizer(0)  # the uniform prior: lost, so it resets from what it sees
+    pos, _ = errors(walk, run(walk, loc))
+    assert calls and sum(calls) > 0  # posts pairs were solved in closed form
+    assert pos[-1] < 0.3
 
 
 def test_known_beam_is_taken_at_once():
@@ -453,3 +487,16 @@ def test_localizes_every_agent_in_the_env_vision_mode(vision):
     assert math.sqrt(np.mean(pos_err[settled] ** 2)) < 0.2, np.percentile(pos_err, [50, 95])
     assert pos_err[settled].max() < 0.5 and head_err[settled].max() < math.radians(10.0)
     assert pos_err[kidnap, victim] > 5.0  # the teleport was news to it
+
+
+def test_bad_input_shapes_are_clear_errors():
+    batch = BatchLocalizer(2, "simspark", rng=np.random.default_rng(0))
+    with pytest.raises(LocalizationError, match=r"odometry must have shape \(2, 3\)"):
+        batch.predict(None, np.zeros(3))
+    with pytest.raises(LocalizationError, match="landmarks must have shape"):
+        batch.correct(None, np.zeros((2, 5, 4)))
+    with pytest.raises(LocalizationError, match="lines must have shape"):
+        batch.correct(None, np.zeros((2, 8, 4)), np.zeros((2, 3, 6)))
+    before = batch.particles
+    batch.correct(None, np.zeros((2, 8, 4)), np.zeros((2, 0, 7)))  # nothing seen: no change
+    np.testing.assert_array_equal(batch.particles, before)
