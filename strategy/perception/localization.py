@@ -47,8 +47,10 @@ The cycle (seed 000 §3):
   exp(l_i / m)`` (the weighted mean of the per-sighting geometric-mean likelihood, ``m`` the
   number of sightings, lines counted with ``line_weight``, so that it does not depend on how
   many things are in view). ``w_slow`` and ``w_fast`` average it with ``alpha_slow`` and
-  ``alpha_fast``; a share ``1 - w_fast / w_slow`` of the particles (at least ``lost_share``
-  while ``w_fast < lost_quality``; at most ``max_reset_share``) — the lowest-weighted — is
+  ``alpha_fast``; a share ``1 - w_fast / w_slow`` of the particles (none below
+  ``min_reset_share``, the fit's own jitter: a well-placed belief that sees one far landmark
+  would otherwise be smeared along that landmark's circle; at least ``lost_share`` while
+  ``w_fast < lost_quality``; at most ``max_reset_share``) — the lowest-weighted — is
   replaced by poses computed from the current sightings, perturbed by
   ``reset_sigma_distance_rel`` and ``reset_sigma_bearing_deg`` (the seed adds noise to
   spread them):
@@ -126,7 +128,8 @@ class LocalizationParams:
     ``line_grid_m`` (cell of the distance grid).
     Resampling: when the effective sample size is below ``resample_ess`` * N.
     Resetting (augmented MCL): ``alpha_slow`` < ``alpha_fast`` (per vision update),
-    ``lost_quality`` / ``lost_share``, ``max_reset_share``, the noise added to sightings
+    ``lost_quality`` / ``lost_share``, ``min_reset_share`` / ``max_reset_share`` (0: no
+    sensor resetting), the noise added to sightings
     before resetting (``reset_sigma_distance_rel``, ``reset_sigma_bearing_deg``), the
     heading spread of one-landmark resets (``reset_sigma_heading_deg``), and
     ``field_margin_m`` (candidates farther out are rejected; particles are kept within it).
@@ -156,6 +159,7 @@ class LocalizationParams:
     lost_quality: float = 0.05
     lost_share: float = 0.5
     max_reset_share: float = 0.5
+    min_reset_share: float = 0.1
     reset_sigma_distance_rel: float = 0.002
     reset_sigma_bearing_deg: float = 0.5
     reset_sigma_heading_deg: float = 5.0
@@ -200,7 +204,7 @@ class LocalizationParams:
         for name in unit:
             if not (_number(getattr(self, name)) and 0 < getattr(self, name) <= 1):
                 raise bad(name, "a number in (0, 1]")
-        for name in ("lost_share", "max_reset_share"):
+        for name in ("lost_share", "max_reset_share", "min_reset_share"):
             if not (_number(getattr(self, name)) and 0 <= getattr(self, name) <= 1):
                 raise bad(name, "a number in [0, 1] (0: no sensor resetting)")
         if not (_number(self.lost_quality) and 0 <= self.lost_quality < 1):
@@ -585,6 +589,7 @@ class BatchLocalizer:
         with np.errstate(divide="ignore", invalid="ignore"):
             share = np.where(slow > 0, 1.0 - fast / slow, 0.0)
         share = np.where(fast < prm.lost_quality, np.maximum(share, prm.lost_share), share)
+        share = np.where(share >= prm.min_reset_share, share, 0.0)
         share = np.clip(share, 0.0, prm.max_reset_share)
         n_reset = np.where(active & (s.n_landmarks > 0), np.rint(share * self.n), 0)
         n_reset = n_reset.astype(np.intp)
