@@ -594,9 +594,8 @@ class BatchLocalizer:
         n_reset = np.where(active & (s.n_landmarks > 0), np.rint(share * self.n), 0)
         n_reset = n_reset.astype(np.intp)
         if n_reset.any():
-            self._replaced = np.zeros(r, dtype=np.int64)
-            ll = self._reset(p, logw, ll, s, n_reset, w)
-            self.resets[rows] += self._replaced
+            ll, replaced = self._reset(p, logw, ll, s, n_reset, w)
+            self.resets[rows] += replaced
 
         logw = logw + ll
         logw -= logw.max(axis=1, keepdims=True)
@@ -630,9 +629,10 @@ class BatchLocalizer:
         logw[rows] = -math.log(n)
 
     def _reset(self, p: NDArray, logw: NDArray, ll: NDArray, s: _Sightings,
-               n_reset: NDArray[np.intp], w: NDArray) -> NDArray:
+               n_reset: NDArray[np.intp], w: NDArray) -> tuple[NDArray, NDArray[np.intp]]:
         """Replace the ``n_reset`` lowest-weighted particles of each row by poses from the
-        sightings (see the module docstring); returns the updated log-likelihood."""
+        sightings (see the module docstring); returns the updated log-likelihood and how
+        many particles of each row were replaced."""
         prm, rng, n = self.params, self.rng, self.n
         rows = np.flatnonzero(n_reset)
         m = int(n_reset.max())
@@ -690,17 +690,16 @@ class BatchLocalizer:
 
         keep = np.isfinite(new).all(axis=1)
         if not keep.any():
-            return ll
+            return ll, np.zeros(len(ll), dtype=np.intp)
         ri, pi, new = ri[keep], pi[keep], new[keep]
         p[0, ri, pi], p[1, ri, pi] = new[:, 0], new[:, 1]
         p[2, ri, pi] = (new[:, 2] + np.pi) % (2.0 * np.pi) - np.pi
         logw[ri, pi] = -math.log(n)  # the mean prior weight (the log-weights are normalized)
-        self._replaced = np.bincount(ri, minlength=len(ll))
         changed = np.unique(ri)
         ll = ll.copy()
         ll[changed] = self._loglik(p[0, changed], p[1, changed], p[2, changed],
                                    s.rows(changed))
-        return ll
+        return ll, np.bincount(ri, minlength=len(ll))
 
     # -- output -----------------------------------------------------------------------------
     def estimate(self) -> PoseEstimate:
