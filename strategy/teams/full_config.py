@@ -98,7 +98,7 @@ class FullTeamConfig:
     set_play_clearance_m: float = 2.6
     communicate: bool = True
     vote: bool = True
-    localization_particles: int = 100
+    localization_particles: int = 50
     say_every: int = 1
     nav_k_repulse: float = -0.35
     nav_influence_m: float = 1.6
