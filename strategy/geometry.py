@@ -41,6 +41,15 @@ def to_team(forward: float, left: float, heading: float) -> tuple[float, float]:
     return c * forward - s * left, s * forward + c * left
 
 
+def body_points_to_team(points: NDArray[np.floating], x: float, y: float,
+                        heading: float) -> NDArray[np.float64]:
+    """(M, 2) team-frame positions of body-frame points (M, >=2: forward, left) seen from a
+    player at (x, y) facing ``heading``."""
+    c, s = math.cos(heading), math.sin(heading)
+    f, left = points[:, 0], points[:, 1]
+    return np.column_stack((x + c * f - s * left, y + s * f + c * left))
+
+
 def bearing(dx: float, dy: float, heading: float) -> float:
     """The angle of the team-frame offset (dx, dy) seen from ``heading``, in [-pi, pi)."""
     return wrap_angle(math.atan2(dy, dx) - heading)

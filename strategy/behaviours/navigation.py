@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from strategy.geometry import wrap_angle
+from strategy.geometry import to_body, wrap_angle
 from teamenv.errors import ConfigError
 
 
@@ -149,9 +149,8 @@ def walk_command(position: ArrayLike, heading: float, target: ArrayLike,
         turn = 0.0 if face_angle is None else wrap_angle(face_angle - heading)
         return np.array([0.0, 0.0, params.turn_gain * turn])
     v = max(min(top, params.min_speed), top * min(1.0, dist / max(params.slow_down_m, 1e-9)))
-    c, s = math.cos(heading), math.sin(heading)
     if dist < params.omni_m:
-        local_x, local_y = c * dx + s * dy, -s * dx + c * dy
+        local_x, local_y = to_body(dx, dy, heading)
         turn = 0.0 if face_angle is None else wrap_angle(face_angle - heading)
         return np.array([v * local_x / dist, v * local_y / dist, params.turn_gain * turn])
     theta = direction_to(p, t, obstacles, params)

@@ -18,7 +18,6 @@ mode builds, so everything above perception is the same code in both modes.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -26,7 +25,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from strategy.geometry import BallRoll
+from strategy.geometry import BallRoll, body_points_to_team, to_team
 from strategy.perception.ball_belief import BallEstimate
 from strategy.perception.filtering import FilterParams
 from strategy.perception.localization import BatchLocalizer, LocalizationParams
@@ -156,9 +155,7 @@ class VisionPerceiver:
     def _place(self, polar: NDArray[np.floating], pose: NDArray[np.float64]) -> NDArray:
         """Team-frame (M, 2) ground points of polar sightings seen from ``pose``."""
         body = from_polar(np.asarray(polar, dtype=np.float64), self.camera_height)
-        c, s = math.cos(pose[2]), math.sin(pose[2])
-        return np.column_stack((pose[0] + c * body[:, 0] - s * body[:, 1],
-                                pose[1] + s * body[:, 0] + c * body[:, 1]))
+        return body_points_to_team(body, pose[0], pose[1], pose[2])
 
     def _hear(self, k: int, o: Mapping[str, Any], now: float) -> None:
         reports = []
@@ -197,8 +194,7 @@ class VisionPerceiver:
         fallen[k] = bool(o["body"][0] > 0.5)
         opponents, opp_present = self.sightings.opponents(now, k)
         odo = o["odometry"]
-        c, s = math.cos(pose[2]), math.sin(pose[2])
-        velocity = np.array((c * odo[0] - s * odo[1], s * odo[0] + c * odo[1])) / self.cycle_s
+        velocity = np.array(to_team(odo[0], odo[1], pose[2])) / self.cycle_s
         game = o["game"]
         return WorldModel(
             k, pose[:2].copy(), float(pose[2]), velocity, fallen[k], ball_xy, ball_v, mates,
