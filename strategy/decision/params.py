@@ -13,22 +13,23 @@ from dataclasses import dataclass
 class DecisionParams:
     """What the field player's and the goalie's decisions depend on (metres, m/s, seconds).
 
-    See ``FullTeamConfig`` for the meaning of each field (same names).
+    No defaults here: a team's config holds them (``FullTeamConfig``, where each field of the
+    same name is documented) and builds this with ``decision_params()``.
     """
 
-    pass_max_m: float = 9.0
-    pass_lane_m: float = 1.0
-    pressure_m: float = 2.0
-    dribble_speed: float = 0.9
-    ball_player_hysteresis_m: float = 0.5
-    cover_m: float = 3.0
-    goalie_line_m: float = 0.5
-    goalie_clear_m: float = 3.5
-    set_play_clearance_m: float = 2.6
-    nav_max_speed: float = 1.2
-    kick_possession_weight: float = 2.0
-    kick_progress_weight: float = 0.15
-    kick_goal_weight: float = 25.0
-    kick_min_margin_s: float = 1.0
-    kick_follow_up: float = 0.5
-    ball_pull: float = 0.5
+    pass_max_m: float
+    pass_lane_m: float
+    pressure_m: float
+    dribble_speed: float
+    ball_player_hysteresis_m: float
+    cover_m: float
+    goalie_line_m: float
+    goalie_clear_m: float
+    set_play_clearance_m: float
+    nav_max_speed: float
+    kick_possession_weight: float
+    kick_progress_weight: float
+    kick_goal_weight: float
+    kick_min_margin_s: float
+    kick_follow_up: float
+    ball_pull: float
