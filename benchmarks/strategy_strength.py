@@ -4,12 +4,17 @@
     python benchmarks/strategy_strength.py --seeds 20 --jobs 2 --json out/strength.json
     python benchmarks/strategy_strength.py --observation vision --seeds 20 --first-seed 1000 \
         --pairings full:silent,full:chaser,full:static
+    python benchmarks/strategy_strength.py --observation vision --seeds 20 --first-seed 1000 \
+        --pairings full:chaser,silent:chaser      # + the paired difference against chaser
 
 Each pairing plays one match per seed with sides alternating (``teamenv.headtohead``), on the
 ``mj7v7`` pitch with 7 players a side by default, and prints the aggregate score, the record
 and the mean goal difference per match with a 95 % bootstrap confidence interval
 (``scipy.stats.bootstrap``, BCa, over matches). Goals are rare: read the interval, not the
-aggregate. ``--first-seed`` picks seeds nobody tuned on.
+aggregate. ``--first-seed`` picks seeds nobody tuned on. Two pairings against the same
+opponent (``full:chaser,silent:chaser``) are also compared seed by seed: the mean of the
+difference of their goal differences, with its interval (a paired comparison: both teams met
+the same opponent on the same seeds from the same sides).
 """
 
 from __future__ import annotations
@@ -75,6 +80,19 @@ def main() -> None:
         rows.append({"team_a": a, "team_b": b, "goals": result.goals, "record": result.record,
                      "scores": result.scores, "forfeits": result.forfeits, "wall_s": wall,
                      "goal_difference": {"mean": mean, "ci95": [low, high]}})
+    matches = list(rows)
+    for i, first in enumerate(matches):
+        for second in matches[i + 1:]:
+            if first["team_b"] != second["team_b"]:
+                continue
+            paired = tuple((a - b, c - d) for (a, b), (c, d) in
+                           zip(first["scores"], second["scores"], strict=True))
+            mean, low, high = goal_difference_ci(paired)
+            print(f"paired against {first['team_b']}: {first['team_a']} minus "
+                  f"{second['team_a']}, goal difference per match {mean:+.2f} "
+                  f"[95 % CI {low:+.2f}, {high:+.2f}] over {len(paired)} seeds", flush=True)
+            rows.append({"paired": [first["team_a"], second["team_a"], first["team_b"]],
+                         "goal_difference": {"mean": mean, "ci95": [low, high]}})
     if args.json:
         with open(args.json, "w", encoding="utf-8") as fh:
             json.dump({"options": vars(args), "results": rows}, fh, indent=2)
