@@ -315,6 +315,12 @@ def _recency(age: NDArray[np.float64], half_life: float) -> NDArray[np.float64]:
     return np.exp2(-np.minimum(age / half_life, _MAX_HALVINGS))
 
 
+_UNKNOWN = {"known": False, "positions": np.nan, "time_s": np.nan, "newest_s": np.nan,
+            "spread": np.nan, "n": 0, "outliers": 0, "rejected": 0, "velocities": np.nan,
+            "velocity_sigma": np.nan}
+"""What ``cluster_objects`` reports for an object with no sightings."""
+
+
 def cluster_objects(times: NDArray[np.float64], xy: NDArray[np.float64],
                     weights: NDArray[np.float64], objects: NDArray[np.int64], n_objects: int,
                     eps: float, min_samples: int, half_life: float,
@@ -457,6 +463,12 @@ class MultiObjectWindow:
         self._version = 0
         # a few clusterings by content key: a caller may alternate between two times
         self._cache: dict[tuple[int, bytes], dict[str, NDArray]] = {}
+        self._last: tuple[int, NDArray[np.bool_], dict[str, NDArray]] | None = None
+        self.derive_stale = True
+        self.clusterings = 0
+        """How many times the window has clustered (for cost accounting and tests)."""
+        """Drop objects that went out of date from the last clustering instead of running
+        DBSCAN again (the same result; False forces a new clustering, for tests)."""
 
     def clear(self) -> None:
         """Forget every sighting (a new half, a reset)."""
@@ -544,6 +556,9 @@ class MultiObjectWindow:
         key = (self._version, fresh.tobytes())
         stats = self._cache.get(key)
         if stats is None:
+            stats = self._without_stale_objects(fresh)
+        if stats is None:
+            self.clusterings += 1
             obj, slot = np.nonzero(fresh)
             times = self._times[obj, slot]
             order = np.lexsort((slot, times, obj))  # canonical: object, time, slot
@@ -554,11 +569,32 @@ class MultiObjectWindow:
                                     p.min_samples, p.recency_half_life_s,
                                     p.min_velocity_span_s)
             stats = {name: _frozen(a) for name, a in stats.items()}
-            if len(self._cache) >= _CACHE_SIZE:
-                del self._cache[next(iter(self._cache))]  # the oldest entry
-            self._cache[key] = stats
+        if len(self._cache) >= _CACHE_SIZE and key not in self._cache:
+            del self._cache[next(iter(self._cache))]  # the oldest entry
+        self._cache[key] = stats
+        self._last = (self._version, fresh, stats)
         age = np.where(stats["known"], now_s - stats["newest_s"], np.inf)
         return MultiEstimate(age_s=_frozen(age), **stats)
+
+    def _without_stale_objects(self, fresh: NDArray[np.bool_]) -> dict[str, NDArray] | None:
+        """The last clustering with the objects that went out of date since dropped, when
+        nothing else changed (None otherwise). Objects never share a cluster (they are kept
+        2 eps apart), so an object's statistics do not depend on the others' sightings: this
+        is what clustering again would give, without sklearn's fixed cost."""
+        if not self.derive_stale or self._last is None or self._last[0] != self._version:
+            return None
+        _, last_fresh, last = self._last
+        if last_fresh.shape != fresh.shape:
+            return None
+        same = (fresh == last_fresh).all(axis=1)
+        gone = ~fresh.any(axis=1)
+        if not (same | gone).all():
+            return None
+        dropped = gone & ~same
+        stats = {name: a.copy() for name, a in last.items()}
+        for name, a in stats.items():
+            a[dropped] = _UNKNOWN[name]
+        return {name: _frozen(a) for name, a in stats.items()}
 
 
 class SightingWindow:

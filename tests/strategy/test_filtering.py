@@ -405,3 +405,24 @@ def test_min_samples_one_fast_path_labels_like_sklearn_dbscan():
         pts = rng.normal(size=(n, 3)) * rng.uniform(0.2, 3.0)
         expected = DBSCAN(eps=1.0, min_samples=1).fit(pts).labels_
         np.testing.assert_array_equal(_dbscan_labels(pts, np.ones(n), 1.0, 1), expected)
+
+
+def test_dropping_stale_objects_equals_clustering_again():
+    from strategy.perception.filtering import FilterParams, MultiObjectWindow
+
+    rng = np.random.default_rng(11)
+    params = FilterParams(max_age_s=0.2)
+    fast, slow = MultiObjectWindow(12, params), MultiObjectWindow(12, params)
+    slow.derive_stale = False
+    for cycle in range(400):
+        t = cycle * 0.02
+        if cycle % 3 == 0 and rng.random() < 0.7:
+            ids = np.flatnonzero(rng.random(12) < 0.3)
+            xy = rng.normal(size=(len(ids), 2)) * 0.2 + ids[:, None]
+            for w in (fast, slow):
+                w.add(t, ids, xy)
+        a, b = fast.estimate(t), slow.estimate(t)
+        for name in ("known", "positions", "newest_s", "spread", "n", "outliers", "rejected",
+                     "velocities", "velocity_sigma", "age_s"):
+            np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
+    assert fast.clusterings < 0.7 * slow.clusterings, (fast.clusterings, slow.clusterings)
