@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields, replace
-from typing import Any, Mapping, TypeVar
+from typing import Any, Callable, Mapping, TypeVar
 
 from teamenv.errors import ConfigError
 
@@ -162,24 +162,26 @@ def _section(obj: Any) -> str:
     return _section_name(type(obj))
 
 
-def build_config(cls: type[T], value: T | Mapping[str, Any] | None, base: T | None = None) -> T:
+def build_config(cls: type[T], value: T | Mapping[str, Any] | None, base: T | None = None,
+                 *, section: str | None = None,
+                 error: Callable[[str], Exception] = ConfigError) -> T:
     """Return ``value`` as a ``cls``: None gives the defaults (or ``base``), a mapping
     overrides them.
 
-    Unknown keys are an error, never ignored.
+    Unknown keys are an error, never ignored: ``error`` (default ``ConfigError``) naming
+    ``section`` (default: the class's name without ``Config``, lower case) and the known keys.
     """
     if value is None:
         return cls() if base is None else base
     if isinstance(value, cls):
         return value
     if not isinstance(value, Mapping):
-        raise ConfigError(f"{cls.__name__}: expected a mapping or {cls.__name__}, got {value!r}")
+        raise error(f"{cls.__name__}: expected a mapping or {cls.__name__}, got {value!r}")
     known = {f.name for f in fields(cls)}  # type: ignore[arg-type]
     unknown = sorted(set(value) - known)
     if unknown:
-        raise ConfigError(
-            f"{_section_name(cls)}: unknown key(s) {unknown}; known keys are {sorted(known)}"
-        )
+        raise error(f"{section or _section_name(cls)}: unknown key(s) {unknown}; known keys "
+                    f"are {sorted(known)}")
     return replace(cls() if base is None else base, **dict(value))
 
 

@@ -70,6 +70,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from teamenv.config import build_config
 from teamenv.errors import ConfigError, TeamEnvError
 
 _MAX_HALVINGS = 1000.0
@@ -159,12 +160,7 @@ class FilterParams:
     @classmethod
     def from_overrides(cls, overrides: Mapping[str, Any]) -> FilterParams:
         """The defaults with ``overrides`` applied; an unknown key names the known ones."""
-        known = {f.name for f in fields(cls)}
-        unknown = sorted(set(overrides) - known)
-        if unknown:
-            raise FilterParamsError(f"filter params: unknown key(s) {unknown}; known keys are "
-                                    f"{sorted(known)}")
-        return cls(**overrides)
+        return build_config(cls, overrides, section="filter params", error=FilterParamsError)
 
 
 @dataclass(frozen=True, eq=False)

@@ -92,6 +92,7 @@ from strategy.perception.two_posts import (
     two_landmark_candidates,
     two_post_candidates,
 )
+from teamenv.config import build_config
 from teamenv.errors import TeamEnvError
 from teamenv.field import FieldSpec, field_preset
 from teamenv.landmarks import LANDMARK_KINDS, field_lines, landmarks
@@ -217,13 +218,8 @@ class LocalizationParams:
     @classmethod
     def from_overrides(cls, overrides: Mapping[str, Any]) -> LocalizationParams:
         """The defaults with ``overrides`` applied; an unknown key names the known ones."""
-        known = {f.name for f in fields(cls)}
-        unknown = sorted(set(overrides) - known)
-        if unknown:
-            raise LocalizationError(f"LocalizationParams: unknown key(s) {unknown}; known keys "
-                                    f"are {sorted(known)}")
         values = {k: tuple(v) if isinstance(v, list) else v for k, v in overrides.items()}
-        return cls(**values)
+        return build_config(cls, values, section="LocalizationParams", error=LocalizationError)
 
 
 def _shaped(what: str, value: ArrayLike, shape: tuple[int, ...]) -> NDArray[np.float64]:

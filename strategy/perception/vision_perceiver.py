@@ -42,10 +42,10 @@ KICKOFF_MODES = {"BeforeKickOff", "KickOff_Left", "KickOff_Right", "Goal_Left", 
 
 @dataclass(frozen=True)
 class VisionBeliefParams:
-    """How long what an agent saw or heard stays believed (seconds)."""
+    """How long a teammate's said or seen position stays believed (seconds; opponents and the
+    ball age out by ``FilterParams``)."""
 
     teammate_max_age_s: float = 3.0
-    opponent_max_age_s: float = 3.0
 
 
 class VisionPerceiver:
@@ -73,6 +73,7 @@ class VisionPerceiver:
         self.context = context
         self.field = context.field
         self.agents = tuple(context.agents)
+        self.index = {agent: k for k, agent in enumerate(self.agents)}
         self.n = context.team_size
         self.cycle_s = context.cycle_s
         self.communicate = communicate
@@ -92,9 +93,8 @@ class VisionPerceiver:
                                         self.camera_height, self.localization, self.rng)
         self.sightings = TeamSightings(n, n, self.filtering, self.roll.advance)
         self.play_mode: int | None = None
-        # per listener: teammates' positions (n, n, 2), headings, fallen and when learnt
+        # per listener: teammates' positions (n, n, 2), fallen and when learnt
         self.mate_xy = np.zeros((n, n, 2))
-        self.mate_heading = np.zeros((n, n))
         self.mate_fallen = np.zeros((n, n), dtype=bool)
         self.mate_time = np.full((n, n), -np.inf)
         self.reports: list[list[TeamReport]] = [[] for _ in range(n)]
@@ -111,7 +111,7 @@ class VisionPerceiver:
         """Each agent's belief this cycle, from its own observation and what it heard."""
         now = self.cycle * self.cycle_s
         self.cycle += 1
-        index = [self.agents.index(a) for a in observations]
+        index = [self.index[a] for a in observations]
         obs = list(observations.values())
         odometry = np.array([o["odometry"] for o in obs], dtype=np.float64)
         gyro = np.array([o["gyro"][0] for o in obs], dtype=np.float64)
@@ -122,8 +122,8 @@ class VisionPerceiver:
             seen = [o for o, f in zip(obs, fresh, strict=True) if f]
             self.localizer.correct(rows, np.stack([o["landmarks"] for o in seen]),
                                    np.stack([o["lines"] for o in seen]))
-        poses, covariances = self.localizer.estimate()
-        spreads = np.sqrt(np.maximum(covariances[:, 0, 0] + covariances[:, 1, 1], 0.0))
+        estimate = self.localizer.estimate()
+        poses, spreads = estimate.pose, estimate.spread
         mode = int(obs[0]["play_mode"]) if obs else None
         if mode != self.play_mode and mode != int(PlayMode.PlayOn):
             self.sightings.clear_ball()  # the referee placed the ball: old sightings mislead
@@ -166,7 +166,6 @@ class VisionPerceiver:
             j = report.sender
             reports.append(report)
             self.mate_xy[k, j] = report.position
-            self.mate_heading[k, j] = report.heading
             self.mate_fallen[k, j] = report.fallen
             self.mate_time[k, j] = now
             if report.ball is not None:

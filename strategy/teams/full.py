@@ -2,7 +2,8 @@
 a goalie — eleven (or N) independent agents, each deciding from its own observation.
 
 A template for a serious team: copy this file, change ``FullTeamConfig`` (or the decision
-makers in ``strategy.decision.field_player``), and register your class as a ``teamenv.teams`` entry point.
+makers in ``strategy.decision``), and register your class as a ``teamenv.teams`` entry
+point.
 """
 
 from __future__ import annotations

@@ -16,6 +16,7 @@ from strategy.perception.localization import LocalizationParams
 from strategy.positioning.formation.builtin import builtin_formation_names
 from strategy.positioning.formation.sized import KINDS
 from strategy.positioning.marking import MarkingParams
+from teamenv.config import build_config
 from teamenv.errors import ConfigError
 
 
@@ -146,12 +147,7 @@ class FullTeamConfig:
     @classmethod
     def from_overrides(cls, team: str, overrides: dict) -> FullTeamConfig:
         """The defaults with ``overrides`` applied; an unknown key names the known ones."""
-        known = {f.name for f in fields(cls)}
-        unknown = sorted(set(overrides) - known)
-        if unknown:
-            raise ConfigError(f"{team} team config: unknown key(s) {unknown}; known keys are "
-                              f"{sorted(known)}")
-        return cls(**overrides)
+        return build_config(cls, overrides, section=f"{team} team config")
 
     def marking_params(self) -> MarkingParams | None:
         if not self.marking:
