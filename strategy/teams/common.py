@@ -11,6 +11,7 @@ import numpy as np
 
 from strategy.geometry import to_body, wrap_angle
 from strategy.perception.vision_perceiver import VisionPerceiver
+from strategy.perception.team_worldmodels import team_world_models
 from strategy.perception.worldmodel import WorldModel
 from teamenv.teams import TeamContext
 
@@ -32,9 +33,7 @@ class Beliefs:
     def update(self, observations: Mapping[str, Mapping[str, Any]]) -> dict[str, WorldModel]:
         if self.perceiver is not None:
             return self.perceiver.update(observations)
-        return {agent: WorldModel.from_observation(obs, self.index[agent], self.field,
-                                                   resolution=None)
-                for agent, obs in observations.items()}
+        return team_world_models(observations, self.index, self.field, resolution=None)
 
 
 def walk_to(view: WorldModel, target: np.ndarray, low: tuple, high: tuple,

@@ -15,6 +15,7 @@ import numpy as np
 
 from strategy.behaviours.skills import Skills
 from strategy.geometry import BallRoll
+from strategy.perception.team_worldmodels import team_world_models
 from strategy.perception.vision_perceiver import VisionPerceiver
 from strategy.positioning.formation.sized import team_formation
 from strategy.teams.full_config import FullTeamConfig
@@ -51,6 +52,7 @@ class FullTeam:
         formations = {kind: team_formation(getattr(self.config, key), context.team_size,
                                            context.field)
                       for kind, key in FORMATION_KEYS.items()}
+        self.index = {agent: k for k, agent in enumerate(context.agents)}
         memo: dict = {}  # pure results by exact inputs, shared (see strategy.memo)
         self.players = {
             agent: Player(k, agent, context.side, self.config, formations, self.skills,
@@ -70,9 +72,11 @@ class FullTeam:
             self.perceiver.reset(seed)
 
     def act(self, observations: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[str, Any]]:
-        if self.perceiver is None:
-            return {agent: self.players[agent].act(obs).to_action(self.low, self.high)
-                    for agent, obs in observations.items()}
+        if self.perceiver is None:  # state mode: the team's world models in one pass
+            beliefs = team_world_models(observations, self.index, self.context.field,
+                                        self.skills.ball_roll)
+            return {agent: self.players[agent].decide(wm).to_action(self.low, self.high)
+                    for agent, wm in beliefs.items()}
         beliefs = self.perceiver.update(observations)
         out = {}
         for agent, wm in beliefs.items():

@@ -1,0 +1,127 @@
+"""The world models of a whole team from their ``state`` observations, in one numpy pass.
+
+``WorldModel.from_observation`` reads one agent's egocentric observation; a team of eleven
+calling it eleven times spends most of the time in Python overhead on tiny arrays. Here the
+team's observations are stacked and rotated, rounded and keyed together. Each agent still gets
+the world model of *its own* observation — only the arithmetic is batched, with the same IEEE
+operations in the same order, so every value (and every ``belief_key``) is bit-identical to
+``from_observation`` (tested). Observations that are not the env's regular Dict form go
+through ``from_observation`` one by one, which names the agent and field in its error.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+from strategy.geometry import BallRoll
+from strategy.perception.worldmodel import BELIEF_RESOLUTION_M, WorldModel, _rounded, heard_texts
+from teamenv.field import FieldSpec
+from teamenv import PlayMode
+
+_new_model = object.__new__
+_MODES = {int(m): m for m in PlayMode}
+
+
+def team_world_models(observations: Mapping[str, Mapping[str, Any]],
+                      index: Mapping[str, int], field: FieldSpec,
+                      roll: BallRoll | None = None,
+                      resolution: float | None = BELIEF_RESOLUTION_M) -> dict[str, WorldModel]:
+    """``{agent: WorldModel.from_observation(obs, index[agent], field, agent, roll,
+    resolution)}`` for every agent in ``observations``, computed per team."""
+    agents = list(observations)
+    stacked = _stack(observations, agents)
+    if stacked is None:
+        return _one_by_one(observations, index, field, roll, resolution)
+    selfs, balls, players, n = stacked
+    px, py, heading = selfs[:, 0], selfs[:, 1], selfs[:, 2]
+    c, s = np.cos(heading), np.sin(heading)
+    bx, by, bvx, bvy = balls[:, 0], balls[:, 1], balls[:, 2], balls[:, 3]
+    ball_x = px + (c * bx - s * by)
+    ball_y = py + (s * bx + c * by)
+    if not np.isfinite(px + py + ball_x + ball_y).all():
+        return _one_by_one(observations, index, field, roll, resolution)  # it names the agent
+    count = players.shape[1]
+    # rows 0..n-1 teammates, n..count-1 opponents, then own position, ball, ball velocity
+    flat = np.empty((len(agents), count + 3, 2))
+    x, y = players[:, :, 0], players[:, :, 1]
+    cc, ss = c[:, None], s[:, None]
+    flat[:, :count, 0] = cc * x - ss * y
+    flat[:, :count, 1] = ss * x + cc * y
+    flat[:, :count, 0] += px[:, None]
+    flat[:, :count, 1] += py[:, None]
+    flat[:, count, 0], flat[:, count, 1] = px, py
+    flat[:, count + 1, 0], flat[:, count + 1, 1] = ball_x, ball_y
+    flat[:, count + 2, 0] = c * bvx - s * bvy
+    flat[:, count + 2, 1] = s * bvx + c * bvy
+    if resolution is not None:
+        flat = _rounded(flat, resolution)
+    present_all = players[:, :, 4] > 0.5
+    down_all = players[:, :, 3] > 0.5
+    fallen_self = selfs[:, 6] > 0.5
+    headings, vx, vy = heading.tolist(), selfs[:, 3].tolist(), selfs[:, 4].tolist()
+    roll = roll or BallRoll()
+    out = {}
+    for a, agent in enumerate(agents):
+        me = index[agent]
+        obs = observations[agent]
+        rows = flat[a]
+        mates, opponents = rows[:n], rows[n:count]
+        position, ball, ball_velocity = rows[count], rows[count + 1], rows[count + 2]
+        mates[me] = position
+        present = present_all[a, :n].copy()
+        present[me] = True
+        mates_fallen = down_all[a, :n].copy()
+        fallen = bool(fallen_self[a])
+        mates_fallen[me] = fallen
+        opponents_present, opponents_fallen = present_all[a, n:], down_all[a, n:]
+        mode = int(obs["play_mode"])
+        play_mode = _MODES.get(mode) or PlayMode(mode)
+        game = obs["game"]
+        key = b"".join((rows[:count].tobytes(), rows[count + 1:].tobytes(),
+                        present.tobytes(), mates_fallen.tobytes(),
+                        opponents_present.tobytes(), opponents_fallen.tobytes(),
+                        int(play_mode).to_bytes(2, "little")))
+        wm = _new_model(WorldModel)
+        # a frozen dataclass: fill its instance dict (what __init__ would store)
+        wm.__dict__.update(
+            me=me, position=position, heading=headings[a],
+            velocity=np.array((vx[a], vy[a])), fallen=fallen, ball=ball,
+            ball_velocity=ball_velocity, teammates=mates, teammates_present=present,
+            teammates_fallen=mates_fallen, opponents=opponents,
+            opponents_present=opponents_present, opponents_fallen=opponents_fallen,
+            play_mode=play_mode, time_s=float(game[0]), half=int(game[1]),
+            score=(int(game[2]), int(game[3])), heard=tuple(heard_texts(obs)), field=field,
+            roll=roll, belief_key=key, ball_age_s=0.0, pose_spread_m=0.0,
+            _players=rows[:count])
+        out[agent] = wm
+    return out
+
+
+def _stack(observations: Mapping[str, Mapping[str, Any]], agents: list[str]):
+    """(selfs (A, 7+), balls (A, 4+), players (A, 2n, 5), n) in float64, or None when the
+    observations are not all the env's regular Dict form of one shape."""
+    if not agents:
+        return None
+    try:
+        first = observations[agents[0]]
+        n = len(first["teammates"])
+        selfs = np.array([observations[a]["self"] for a in agents], dtype=np.float64)
+        balls = np.array([observations[a]["ball"] for a in agents], dtype=np.float64)
+        mates = np.array([observations[a]["teammates"] for a in agents], dtype=np.float64)
+        opps = np.array([observations[a]["opponents"] for a in agents], dtype=np.float64)
+    except (KeyError, TypeError, ValueError):
+        return None
+    if (selfs.ndim != 2 or selfs.shape[1] < 7 or balls.ndim != 2 or balls.shape[1] < 4
+            or mates.ndim != 3 or mates.shape[2] < 5 or opps.ndim != 3
+            or opps.shape[1] != n or opps.shape[2] != mates.shape[2]):
+        return None
+    return selfs, balls, np.concatenate((mates, opps), axis=1), n
+
+
+def _one_by_one(observations, index, field, roll, resolution) -> dict[str, WorldModel]:
+    return {agent: WorldModel.from_observation(obs, index[agent], field, agent, roll, resolution)
+            for agent, obs in observations.items()}
+
