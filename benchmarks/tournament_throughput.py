@@ -1,89 +1,210 @@
-"""Benchmark: tournament matches per minute at -j 1 and -j 2, and the database cost per match.
+"""Benchmark: tournament throughput (matches per hour) per backend, per-match overhead, start-up.
 
-Plays a round robin of the registered (built-in) teams three ways — in-process serially (no
-pool, no database: the baseline), and through ``run_tournament`` with the process pool at
-``-j 1`` and ``-j 2`` — then times writing matches into SQLite on its own (synchronous=FULL
-and NORMAL). Usage::
+Plays one round robin of the registered (built-in) teams four ways and checks that all of them
+store exactly the same results:
 
-    .venv/bin/python benchmarks/tournament_throughput.py [--team-size 11] [--half-time 20]
-        [--games 3] [--writes 500]
+- ``serial``: in-process, one match after another through ``execute_task`` (no pool, no
+  database): the baseline;
+- ``process -j 1`` and ``process -j 2``: ``run_tournament`` with the local process pool;
+- ``ray x2``: ``run_tournament`` on a local Ray instance with ``num_cpus=2`` (ray.init and
+  shutdown included, as the CLI pays them).
+
+For each it prints matches per hour and per minute, the time inside matches (the sum of the
+matches' own ``wall_s``: build the env, reset, play), and the per-match overhead::
+
+    overhead per match = (workers x wall time - sum of match wall_s) / matches
+
+i.e. every worker-second not spent inside a match: worker start-up, imports, shipping tasks and
+results, database writes, and workers idle at the end (the tail). Worker start-up is also timed
+on its own: a pool of N workers (or ray.init + N Ray workers) until each worker has imported
+the teams and can play. ``--repeat`` runs every measurement that many times and keeps the best
+(the machine is shared, timings are noisy). Usage::
+
+    OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/tournament_throughput.py \
+        [--team-size 11] [--half-time 20] [--halves 2] [--games 1] [--repeat 1] \
+        [--teams chaser static ...] [--no-ray] [--writes 200]
 """
 
 from __future__ import annotations
 
 import argparse
 import os
-import resource
 import tempfile
 import time
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 from teamenv.match import MatchOptions
 from teamenv.teams import registered_teams
-from teamenv.tournament import ResultStore, round_robin, run_tournament
-from teamenv.tournament.backends import execute_task
+from teamenv.tournament import ResultStore, round_robin, run_tournament, validate_specs
+from teamenv.tournament.backends import ProcessPoolBackend, execute_task
+
+
+def _probe(names: tuple[str, ...]) -> int:
+    """What a worker must do before its first match: import teamenv and the teams."""
+    import teamenv.match  # noqa: F401
+    from teamenv.teams import resolve_team_class
+
+    for name in names:
+        resolve_team_class(name)
+    return os.getpid()
+
+
+def pool_start_s(jobs: int, names: tuple[str, ...]) -> float:
+    """Seconds from creating the backend's pool of ``jobs`` workers until all of them have
+    imported the teams (what the pool pays before its first match)."""
+    backend = ProcessPoolBackend(jobs)
+    start = time.perf_counter()
+    starter = getattr(backend, "start_pool", None)
+    if starter is not None:  # the backend's own start (it imports the teams in the workers)
+        pool = starter([])
+    else:
+        pool = ProcessPoolExecutor(jobs, mp_context=backend.context)
+    pids = set()
+    while len(pids) < jobs:  # make sure every worker exists and has imported
+        pids |= {f.result() for f in [pool.submit(_probe, names) for _ in range(2 * jobs)]}
+    elapsed = time.perf_counter() - start
+    pool.shutdown()
+    return elapsed
+
+
+def ray_start_s(jobs: int, names: tuple[str, ...]) -> tuple[float, float]:
+    """(ray.init seconds, seconds until ``jobs`` Ray workers have imported the teams)."""
+    import ray
+
+    start = time.perf_counter()
+    ray.init(num_cpus=jobs, include_dashboard=False, log_to_driver=False,
+             configure_logging=False)
+    init = time.perf_counter() - start
+    remote = ray.remote(num_cpus=1)(_probe)
+    pids: set[int] = set()
+    while len(pids) < jobs:
+        pids |= set(ray.get([remote.remote(names) for _ in range(2 * jobs)]))
+    ready = time.perf_counter() - start
+    ray.shutdown()
+    return init, ready
+
+
+def _rows(db: Path, name: str) -> tuple[list[dict[str, Any]], float]:
+    with ResultStore(db) as store:
+        tid, _ = store.get_tournament(name)
+        records = store.matches(tid)
+    return [r.comparable() for r in records], sum(r.wall_s for r in records)
+
+
+def _serial_rows(tasks: list, results: list) -> list[tuple]:
+    return [(t.index, r.score, r.official_score, r.cycles,
+             [(round(g.time_s, 6), g.side, g.scorer_side, g.scorer_unum) for g in r.goals],
+             (r.forfeit.side, r.forfeit.reason) if r.forfeit else None)
+            for t, r in zip(tasks, results, strict=True)]
+
+
+def _row_key(row: dict[str, Any]) -> tuple:
+    official = (row["left_official"], row["right_official"])
+    forfeit = (row["forfeit_side"], row["forfeit_reason"]) if row["forfeit_side"] else None
+    return (row["idx"], (row["left_score"], row["right_score"]), official, row["cycles"],
+            row["goals"], forfeit)
+
+
+def _line(label: str, n: int, wall: float, match_s: float, workers: int, extra: str = "") -> str:
+    overhead = (workers * wall - match_s) / n
+    return (f"{label:<16} {wall:7.1f} s  {3600 * n / wall:8.0f} matches/h  "
+            f"{60 * n / wall:6.2f} matches/min   in matches {match_s / n:6.3f} s/match, "
+            f"overhead {1e3 * overhead:7.1f} ms/match{extra}")
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--team-size", type=int, default=11)
     parser.add_argument("--half-time", type=float, default=20.0, help="seconds per half")
-    parser.add_argument("--games", type=int, default=3, help="seeded rounds per pairing")
-    parser.add_argument("--writes", type=int, default=500, help="matches in the DB-only test")
+    parser.add_argument("--halves", type=int, default=2)
+    parser.add_argument("--games", type=int, default=1, help="seeded rounds per pairing")
+    parser.add_argument("--teams", nargs="+", default=None,
+                        help="team specs (default: every registered team)")
+    parser.add_argument("--repeat", type=int, default=1, help="keep the best of N runs")
+    parser.add_argument("--no-ray", action="store_true", help="skip the Ray backend")
+    parser.add_argument("--writes", type=int, default=200,
+                        help="matches in the database-only test (0: skip it)")
     args = parser.parse_args()
 
-    teams = sorted(registered_teams())
-    options = MatchOptions(team_size=args.team_size, half_time_s=args.half_time)
+    teams = args.teams or sorted(registered_teams())
+    options = MatchOptions(team_size=args.team_size, half_time_s=args.half_time,
+                           halves=args.halves)
     t = round_robin("bench", teams, games_per_pairing=args.games, options=options)
     tasks = t.schedule()
-    print(f"round robin of {teams}: {len(tasks)} matches, {args.team_size} v {args.team_size}, "
-          f"2 x {args.half_time:g} s halves; {os.cpu_count()} CPUs, "
-          f"load average {os.getloadavg()[0]:.2f} at start")
+    n = len(tasks)
+    names = tuple(sorted({s.name for s in t.all_teams}))
+    print(f"round robin of {teams}: {n} matches, {args.team_size} v {args.team_size}, "
+          f"{args.halves} x {args.half_time:g} s halves, best of {args.repeat}; "
+          f"{os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.2f} at start")
+    validate_specs(t.all_teams, options)  # imports the teams here, as run_tournament does
 
-    start = time.perf_counter()
-    cpu0 = time.process_time()
-    results = [execute_task(task) for task in tasks]
-    serial = time.perf_counter() - start
-    serial_cpu = time.process_time() - cpu0
-    per_match = serial / len(tasks)
-    print(f"in-process serial (no pool, no DB): {serial:7.1f} s  "
-          f"{60 / per_match:6.1f} matches/min  ({per_match:.2f} s/match, "
-          f"{serial_cpu / len(tasks):.2f} CPU-s/match)")
+    best: dict[str, tuple[float, float, int, str]] = {}
+    rows: dict[str, list] = {}
 
-    rates = {}
+    serial_results: list = []
+    for _ in range(args.repeat):
+        start = time.perf_counter()
+        serial_results = [execute_task(task) for task in tasks]
+        wall = time.perf_counter() - start
+        match_s = sum(r.wall_s for r in serial_results)
+        if "serial" not in best or wall < best["serial"][0]:
+            best["serial"] = (wall, match_s, 1, "")
+    rows["serial"] = _serial_rows(tasks, serial_results)
+    print(_line("serial", n, *best["serial"][:3]), flush=True)
+
+    runs = [("process -j 1", "process", 1), ("process -j 2", "process", 2)]
+    if not args.no_ray:
+        try:
+            import ray  # noqa: F401
+            runs.append(("ray x2", "ray", 2))
+        except ImportError:
+            print("ray is not installed: skipping the Ray backend")
     with tempfile.TemporaryDirectory() as tmp:
-        for jobs in (1, 2):
-            before = resource.getrusage(resource.RUSAGE_CHILDREN)
-            s = run_tournament(replace(t, name=f"bench-j{jobs}"), Path(tmp) / f"j{jobs}.sqlite",
-                               jobs=jobs, progress=False)
-            after = resource.getrusage(resource.RUSAGE_CHILDREN)  # workers are reaped by now
-            cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-            assert s.complete, s.describe()
-            rates[jobs] = s.matches_per_minute
-            print(f"run_tournament -j {jobs}:              {s.wall_s:7.1f} s  "
-                  f"{s.matches_per_minute:6.1f} matches/min  (DB writes "
-                  f"{1e3 * s.db_write_s / s.played:.2f} ms/match in the parent; workers used "
-                  f"{cpu:.1f} CPU-s = {cpu / s.wall_s:.2f} cores busy on average)")
-        print(f"scaling -j 2 / -j 1: {rates[2] / rates[1]:.2f}x  "
-              f"(-j 1 vs in-process: {rates[1] * per_match / 60:.2f}x)")
+        for label, backend, jobs in runs:
+            for k in range(args.repeat):
+                name = f"bench-{backend}-{jobs}-{k}"
+                db = Path(tmp) / f"{name}.sqlite"
+                s = run_tournament(replace(t, name=name), db, backend=backend, jobs=jobs,
+                                   progress=False)
+                assert s.complete, s.describe()
+                got, match_s = _rows(db, name)
+                rows[label] = [_row_key(r) for r in got]
+                extra = f"  (DB writes {1e3 * s.db_write_s / s.played:.2f} ms/match)"
+                if label not in best or s.wall_s < best[label][0]:
+                    best[label] = (s.wall_s, match_s, jobs, extra)
+            wall, match_s, jobs, extra = best[label]
+            print(_line(label, n, wall, match_s, jobs, extra), flush=True)
 
-        for sync in ("FULL", "NORMAL"):
-            with ResultStore(Path(tmp) / f"w-{sync}.sqlite", synchronous=sync) as store:
-                big = round_robin("writes", [f"{teams[0]}:n={k}" for k in range(40)],
-                                  games_per_pairing=1, options=options)
-                tid = store.create_tournament(big, {})
-                sched = big.schedule()[: args.writes]
-                start = time.perf_counter()
-                for k, task in enumerate(sched):
-                    store.record_match(tid, task, results[k % len(results)])
-                write = (time.perf_counter() - start) / len(sched)
-                start = time.perf_counter()
-                store.matches(tid)
-                read = time.perf_counter() - start
-            print(f"DB write, synchronous={sync:6s}: {1e3 * write:6.3f} ms/match "
-                  f"({100 * write / per_match:.3f}% of a {per_match:.2f} s match); "
-                  f"reading {len(sched)} matches back: {1e3 * read:.1f} ms")
+        serial_rate = n / best["serial"][0]
+        for label, *_ in runs:
+            print(f"  {label}: {n / best[label][0] / serial_rate:.2f}x serial")
+        same = all(rows[label] == rows["serial"] for label in rows)
+        print(f"identical results (scores, goals, cycles, forfeits) on every backend: {same}")
+
+        print("worker start-up (until every worker has imported the teams), best of "
+              f"{args.repeat}:")
+        for jobs in (1, 2):
+            cost = min(pool_start_s(jobs, names) for _ in range(args.repeat))
+            print(f"  process pool -j {jobs}: {cost:.2f} s")
+        if "ray x2" in best:
+            init, ready = min(ray_start_s(2, names) for _ in range(args.repeat))
+            print(f"  ray x2: {ready:.2f} s (ray.init {init:.2f} s)")
+
+        if args.writes:
+            for sync in ("FULL", "NORMAL"):
+                with ResultStore(Path(tmp) / f"w-{sync}.sqlite", synchronous=sync) as store:
+                    big = round_robin("writes", [f"{teams[0]}:n={k}" for k in range(40)],
+                                      games_per_pairing=1, options=options)
+                    tid = store.create_tournament(big, {})
+                    sched = big.schedule()[: args.writes]
+                    start = time.perf_counter()
+                    for k, task in enumerate(sched):
+                        store.record_match(tid, task, serial_results[k % n])
+                    write = (time.perf_counter() - start) / len(sched)
+                print(f"DB write alone, synchronous={sync:6s}: {1e3 * write:6.3f} ms/match")
 
 
 if __name__ == "__main__":
