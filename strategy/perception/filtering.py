@@ -5,7 +5,9 @@ In ``vision`` mode an agent sees the ball and other players only inside its view
 is now and then wrong. A mean of recent sightings would be dragged by those wrong ones; the
 seed's answer is to keep a short window of sightings per object and cluster it with DBSCAN:
 the dense cluster is the object, isolated points are noise. This module does that with
-scikit-learn's ``DBSCAN`` (not a clustering of our own) and numpy:
+DBSCAN's labels exactly as scikit-learn's ``DBSCAN`` gives them (computed with numpy,
+``_exact_dbscan_labels``, tested label for label against sklearn; sklearn itself only for
+non-integer weights) and numpy:
 
 - ``SightingWindow``: the window of one object (the ball), ``estimate(now_s)`` ->
   ``FilteredEstimate`` (position, spread, members, age, outliers, velocity).
@@ -36,24 +38,15 @@ The estimate of an object (``cluster_objects``):
 - Velocity sigma = the slope's standard error per axis (from the residuals): a still ball's
   fitted velocity is noise of about this size, so a consumer can tell rolling from still.
 
-Cost (``timeit``, best of 5, on a busy 2-core machine; scikit-learn 1.9.1, numpy 2.4):
-
-- sklearn ``DBSCAN.fit`` on 10-60 points: ~0.6-1.0 ms with its defaults, ~0.4-0.6 ms as run
-  here (brute-force neighbours, under ``skip_parameter_validation`` and ``assume_finite``: the
-  windows validate their input on ``add``); nearly all of it fixed Python overhead (input
-  checks, a neighbours index, a per-point loop), not the clustering.
-- ``SightingWindow.estimate`` that re-clusters (30 sightings): ~0.65 ms; one that finds the
-  window unchanged: ~15 us (the cached clustering; only ``age_s`` is recomputed).
-- ``MultiObjectWindow(11).estimate`` re-clustering 11 x 15 sightings: ~1.2 ms in one sklearn
-  call (11 calls would be ~5 ms); unchanged: ~12 us.
-- ``BallBelief`` with the ball in view every 3rd cycle: ~0.26 ms per agent and cycle on
-  average (sklearn runs on 1/3 of the cycles).
-
-So sklearn runs once per new sighting (not per cycle; and once when an object goes out of
-date), never for a window whose total weight
-is below ``min_samples`` (no core point is possible) or that holds a single point, and once -
-not once per object - for all the objects of a ``MultiObjectWindow`` (objects are kept apart
-by a third coordinate, ``object * 2 eps``, more than ``eps`` between any two objects).
+Cost: sklearn's ``DBSCAN.fit`` costs ~0.4-1.0 ms a call on 10-60 points, nearly all of it
+fixed Python overhead (input checks, a neighbours index, a per-point loop); the numpy labels
+(all-against-all within each object's window, the objects padded into one array) cost
+~0.1 ms for a whole team's windows. Clustering runs once per new sighting (not per cycle;
+and once when an object goes out of date), never for a window whose total weight is below
+``min_samples`` (no core point is possible) or that holds a single point, and once - not
+once per object - for all the objects of a ``MultiObjectWindow`` (objects never share a
+cluster: they are compared only within themselves, as if a third coordinate ``object * 2
+eps`` kept them apart).
 
 Determinism: no random state; the points are put in a canonical order (object, time, slot)
 before DBSCAN, so the same sightings give the same answer bit for bit.
@@ -267,10 +260,26 @@ def _dbscan_class() -> Any:
 
 
 def _dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float64], eps: float,
-                   min_samples: int) -> NDArray[np.int64]:
-    """DBSCAN labels (-1 = noise) of ``points``; see the module docstring for the cost."""
-    if min_samples <= 1 and bool(np.all(weights >= 1.0)):
-        return _single_linkage_labels(points, eps)
+                   min_samples: int, groups: NDArray[np.int64] | None = None
+                   ) -> NDArray[np.int64]:
+    """DBSCAN labels (-1 = noise) of ``points``, exactly as sklearn's ``DBSCAN`` gives them.
+
+    ``groups`` (optional, (n,) ints) says which points can be neighbours at all: points of
+    different groups must be more than ``eps`` apart (``cluster_objects`` keeps objects
+    apart so), and are then never compared. With integer-valued weights (every caller here:
+    unit weights) the labels come from numpy (``_exact_dbscan_labels``), otherwise from
+    sklearn itself (its weighted neighbourhood sums depend on its summation order)."""
+    w = np.asarray(weights, dtype=np.float64)
+    if len(w) and bool(np.all(w == np.floor(w))) and float(w.sum()) < 2.0**52:
+        return _exact_dbscan_labels(points, w, eps, min_samples, groups)
+    if groups is not None and points.ndim == 2:  # sklearn needs the groups kept apart
+        points = np.column_stack([points, np.asarray(groups) * (2.0 * eps)])
+    return _sklearn_dbscan_labels(points, w, eps, min_samples)
+
+
+def _sklearn_dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float64],
+                           eps: float, min_samples: int) -> NDArray[np.int64]:
+    """sklearn's DBSCAN labels (~0.5 ms a call, nearly all of it fixed overhead)."""
     import sklearn
 
     dbscan = _dbscan_class()
@@ -286,23 +295,78 @@ def _dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float64], ep
     return np.asarray(model.labels_, dtype=np.int64)
 
 
-def _single_linkage_labels(points: NDArray[np.float64], eps: float) -> NDArray[np.int64]:
-    """DBSCAN's labels when every point is a core point (min_samples 1): the connected
-    components of the graph joining points within ``eps`` (SciPy's KD-tree and csgraph;
-    sklearn's fixed ~1 ms per call would dominate the small, frequent clusterings of heard
-    reports), numbered in order of first appearance as DBSCAN numbers them."""
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-    from scipy.spatial import cKDTree
+def _exact_dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float64],
+                         eps: float, min_samples: int,
+                         groups: NDArray[np.int64] | None = None) -> NDArray[np.int64]:
+    """sklearn's DBSCAN labels computed with numpy, for integer-valued weights.
 
-    n = len(points)
-    pairs = cKDTree(points).query_pairs(eps, output_type="ndarray")
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
-    _, labels = connected_components(graph, directed=False)
-    _, first = np.unique(labels, return_index=True)
-    rank = np.empty(len(first), dtype=np.int64)
-    rank[np.argsort(first, kind="stable")] = np.arange(len(first))
-    return rank[labels]
+    The same decisions as sklearn (``sklearn.cluster._dbscan_inner``): a point's
+    neighbourhood is every point whose squared distance, summed over the coordinates in
+    order (its ``euclidean`` reduced distance), is at most ``eps * eps``, itself included;
+    a core point has a neighbourhood weight of at least ``min_samples`` (integer weights:
+    the sum is exact in any order); clusters are the connected components of the core
+    points, numbered in the order of their first point; a non-core point within reach of
+    core points joins the lowest-numbered of their clusters (the first to reach it), else
+    it is noise. Within a group the points are compared all against all (groups are tiny:
+    one object's window), padded to the largest group."""
+    pts = np.asarray(points, dtype=np.float64)
+    n = len(pts)
+    if n == 0:
+        return np.zeros(0, dtype=np.int64)
+    if pts.ndim == 1:
+        pts = pts[:, None]
+    if groups is None:
+        order = np.arange(n)
+        starts = np.zeros(1, dtype=np.intp)
+    else:
+        order = np.argsort(np.asarray(groups), kind="stable")
+        g_sorted = np.asarray(groups)[order]
+        starts = np.flatnonzero(np.r_[True, g_sorted[1:] != g_sorted[:-1]])
+    counts = np.diff(np.r_[starts, n])
+    n_groups, size = len(starts), int(counts.max())
+    group = np.repeat(np.arange(n_groups), counts)
+    slot = np.arange(n) - np.repeat(starts, counts)
+    valid = np.zeros((n_groups, size), dtype=bool)
+    valid[group, slot] = True
+    rdist = np.zeros((n_groups, size, size))
+    coords = pts[order]
+    for j in range(pts.shape[1]):
+        c = np.zeros((n_groups, size))
+        c[group, slot] = coords[:, j]
+        diff = c[:, :, None] - c[:, None, :]
+        rdist += diff * diff
+    near = (rdist <= eps * eps) & valid[:, :, None] & valid[:, None, :]
+    w = np.zeros((n_groups, size))
+    w[group, slot] = weights[order]
+    core = (near * w[:, None, :]).sum(axis=2) >= min_samples
+    core &= valid
+    # components of the core points: every core point takes the smallest sorted position
+    # among its core neighbours until nothing changes (the component's first point)
+    big = n
+    position = np.full((n_groups, size), big, dtype=np.int64)
+    position[group, slot] = np.arange(n)
+    links = near & core[:, :, None] & core[:, None, :]
+    root = np.where(core, position, big)
+    while True:
+        nxt = np.where(links, root[:, None, :], big).min(axis=2)
+        if np.array_equal(nxt, root):
+            break
+        root = nxt
+    # a border point: the first cluster among its core neighbours (clusters are numbered
+    # in the order of their first point, so the smallest root)
+    reach = np.where(near & core[:, None, :], root[:, None, :], big).min(axis=2)
+    root = np.where(core, root, reach)[group, slot]          # (n,) in sorted order
+    labels_sorted = np.full(n, -1, dtype=np.int64)
+    member = root < big
+    if member.any():
+        roots = np.unique(root[member])                      # sorted positions of first points
+        first = order[roots]                                 # their original indices
+        number = np.empty(len(roots), dtype=np.int64)
+        number[np.argsort(first, kind="stable")] = np.arange(len(roots))
+        labels_sorted[member] = number[np.searchsorted(roots, root[member])]
+    labels = np.empty(n, dtype=np.int64)
+    labels[order] = labels_sorted
+    return labels
 
 
 def _recency(age: NDArray[np.float64], half_life: float) -> NDArray[np.float64]:
@@ -350,10 +414,10 @@ def cluster_objects(times: NDArray[np.float64], xy: NDArray[np.float64],
     if dense.sum() == 1:  # one point heavy enough to be core alone: its own cluster
         labels[dense] = 0
     elif dense.any():
-        pts = xy[dense]
-        if n_objects > 1:  # a third coordinate 2 eps per object keeps objects apart
-            pts = np.column_stack([pts, objects[dense] * (2.0 * eps)])
-        labels[dense] = _dbscan_labels(pts, weights[dense], eps, min_samples)
+        # objects never share a cluster: each is clustered on its own (as if a third
+        # coordinate of 2 eps per object kept them apart)
+        labels[dense] = _dbscan_labels(xy[dense], weights[dense], eps, min_samples,
+                                       objects[dense] if n_objects > 1 else None)
     noise = labels < 0
     out["outliers"] = np.bincount(objects[noise], minlength=n_objects).astype(np.int64)
     if noise.all():

@@ -426,3 +426,38 @@ def test_dropping_stale_objects_equals_clustering_again():
                      "velocities", "velocity_sigma", "age_s"):
             np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
     assert fast.clusterings < 0.7 * slow.clusterings, (fast.clusterings, slow.clusterings)
+
+
+def test_numpy_dbscan_labels_like_sklearn_dbscan():
+    """The numpy DBSCAN gives sklearn's labels exactly: noise, border points reachable from
+    two clusters (the first cluster wins), points exactly eps apart, integer weights, and
+    groups kept apart as by a third coordinate of 2 eps per group."""
+    from sklearn.cluster import DBSCAN
+
+    from strategy.perception.filtering import _dbscan_labels, _exact_dbscan_labels
+
+    rng = np.random.default_rng(5)
+    for _ in range(400):
+        n = int(rng.integers(1, 40))
+        eps = float(rng.choice([0.3, 0.5, 1.0]))
+        min_samples = int(rng.integers(1, 6))
+        weights = rng.integers(1, 4, size=n).astype(float) if rng.random() < 0.3 else None
+        unit = np.ones(n) if weights is None else weights
+        pts = rng.normal(size=(n, 2)) * rng.uniform(0.1, 3.0)
+        if rng.random() < 0.3:  # on a half-metre lattice: many distances exactly eps
+            pts = np.round(pts * 2.0) / 2.0
+        expected = DBSCAN(eps=eps, min_samples=min_samples, algorithm="ball_tree").fit(
+            pts, sample_weight=weights).labels_
+        np.testing.assert_array_equal(_exact_dbscan_labels(pts, unit, eps, min_samples),
+                                      expected)
+        groups = rng.integers(0, 4, size=n)
+        expected = DBSCAN(eps=eps, min_samples=min_samples, algorithm="ball_tree").fit(
+            np.column_stack([pts, groups * 2.0 * eps]), sample_weight=weights).labels_
+        np.testing.assert_array_equal(_dbscan_labels(pts, unit, eps, min_samples, groups),
+                                      expected)
+    # non-integer weights go to sklearn itself
+    pts = rng.normal(size=(20, 2))
+    w = rng.uniform(0.5, 2.0, 20)
+    np.testing.assert_array_equal(
+        _dbscan_labels(pts, w, 0.5, 3),
+        DBSCAN(eps=0.5, min_samples=3, algorithm="ball_tree").fit(pts, sample_weight=w).labels_)
