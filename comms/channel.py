@@ -91,6 +91,12 @@ class Delivery:
                 out.extend(map(make, zip(speaker_ids[si].tolist(), li.tolist(), repeat(reason))))
         return self._dropped
 
+    def has_drops(self) -> bool:
+        """True when any message was dropped this cycle (cheap: builds no Drop)."""
+        if self._dropped:
+            return True
+        return self._pending is not None and any(mask.any() for mask, _ in self._pending[1])
+
     def drop_counts(self) -> dict[str, int]:
         """Number of drops per reason, without building the Drop list (cheap, for infos)."""
         counts: dict[str, int] = {}

@@ -517,17 +517,85 @@ class SoccerParallelEnv(ParallelEnv):
         for i in report.beams_refused:
             if names[i] in infos:
                 infos[names[i]]["beam_refused"] = PlayMode(self.sim.referee.mode).name
-        for drop in report.dropped:
-            speaker = names[drop.speaker] if 0 <= drop.speaker < len(names) else None
-            if speaker in infos:
-                infos[speaker].setdefault("message_dropped", []).append(
-                    {"listener": names[drop.listener] if drop.listener >= 0 else None,
-                     "reason": drop.reason})
         for event in report.referee:
             if event.kind == "goal":
                 for a in agents:
                     infos[a]["goal"] = SIDES[event.team]
-        return infos
+        delivery = report.delivery
+        if delivery is None or not delivery.has_drops():
+            return infos
+        # Message drops (often hundreds a cycle when everybody speaks) are listed on first use.
+        return LazyInfos(infos, lambda base: _add_message_drops(base, names, report))
+
+
+def _add_message_drops(infos: dict[str, dict], names: list[str], report: CycleReport) -> None:
+    """Put each speaker's ``message_dropped`` list into ``infos`` (a plain dict's storage), in
+    the key order of an eagerly built info: dropped, beam_refused, message_dropped, goal."""
+    get = dict.get
+    lists: dict[str, list] = {}
+    for drop in report.dropped:
+        speaker = names[drop.speaker] if 0 <= drop.speaker < len(names) else None
+        if get(infos, speaker) is not None:
+            lists.setdefault(speaker, []).append(
+                {"listener": names[drop.listener] if drop.listener >= 0 else None,
+                 "reason": drop.reason})
+    for speaker, items in lists.items():
+        info = dict.__getitem__(infos, speaker)
+        if "goal" in info:
+            goal = info.pop("goal")
+            info["message_dropped"] = items
+            info["goal"] = goal
+        else:
+            info["message_dropped"] = items
+
+
+class LazyInfos(dict):
+    """The ``infos`` of one step: a real ``dict`` (agent -> info dict) whose ``message_dropped``
+    entries are filled in the first time the mapping is used (indexing, iteration, ``items()``,
+    comparison, copying, pickling, printing...). Once filled it is exactly the dict an eager
+    build gives; a step whose infos nobody reads does not pay for listing hundreds of drops.
+    Pickled, it is a plain ``dict``."""
+
+    __slots__ = ("_fill",)
+
+    def __init__(self, base: dict[str, dict], fill: Callable[[dict], None]) -> None:
+        dict.__init__(self, base)
+        self._fill: Callable[[dict], None] | None = fill
+
+    def _materialize(self) -> None:
+        fill = self._fill
+        if fill is not None:
+            self._fill = None
+            fill(self)
+
+    def __reduce__(self):
+        self._materialize()
+        return (dict, (dict(dict.items(self)),))
+
+    def __reduce_ex__(self, protocol):
+        return self.__reduce__()
+
+
+def _lazy_method(name: str) -> Callable:
+    base = getattr(dict, name)
+
+    def method(self, *args, **kwargs):
+        self._materialize()
+        return base(self, *args, **kwargs)
+
+    method.__name__ = name
+    method.__qualname__ = f"LazyInfos.{name}"
+    method.__doc__ = base.__doc__
+    return method
+
+
+for _name in ("__getitem__", "get", "__iter__", "__reversed__", "__len__", "__contains__",
+              "keys", "values", "items", "__eq__", "__ne__", "__repr__", "__or__", "__ror__",
+              "__ior__", "copy", "pop", "popitem", "setdefault", "update", "__setitem__",
+              "__delitem__", "clear", "__sizeof__"):
+    setattr(LazyInfos, _name, _lazy_method(_name))
+del _name
+LazyInfos.__hash__ = None  # type: ignore[assignment]
 
 
 def _choice(name: str, value: Any, allowed: tuple) -> None:
