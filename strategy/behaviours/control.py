@@ -8,11 +8,15 @@ drive a client of the league's server.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
-from typing import Any
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
+
+if TYPE_CHECKING:
+    from strategy.behaviours.walk_batch import WalkGoal
 
 
 @dataclass(frozen=True)
@@ -25,6 +29,8 @@ class ControlRequest:
         beam: (x, y, rotation) team frame, or None (only honoured while beaming is allowed).
         say: text to say ("" = silent).
         behaviour: name of the behaviour that made the request (for tests and debugging).
+        goal: where the walk goes (``walking``): the walk command is computed from it on
+            first read, or for the whole team at once by ``resolve_walks``.
     """
 
     walk: NDArray[np.float64] = field(default_factory=lambda: np.zeros(3))
@@ -32,13 +38,40 @@ class ControlRequest:
     beam: tuple[float, float, float] | None = None
     say: str = ""
     behaviour: str = "idle"
+    goal: WalkGoal | None = field(default=None, repr=False, compare=False)
+
+    @classmethod
+    def walking(cls, goal: WalkGoal, behaviour: str) -> ControlRequest:
+        """A request to walk to ``goal``; its ``walk`` command is computed when needed."""
+        request = cls(None, behaviour=behaviour, goal=goal)  # type: ignore[arg-type]
+        del request.__dict__["walk"]  # pending: __getattr__ computes it on first read
+        return request
+
+    def __getattr__(self, name: str) -> Any:
+        # only reached for a pending walk (the field is absent from the instance dict)
+        goal = self.__dict__.get("goal")
+        if name != "walk" or goal is None:
+            raise AttributeError(name)
+        walk = self.__dict__["walk"] = goal.command()
+        return walk
+
+    @property
+    def pending(self) -> bool:
+        """The walk command is not computed yet."""
+        return "walk" not in self.__dict__
+
+    def _copy(self, **changes: Any) -> ControlRequest:
+        # a copy that keeps a pending walk pending (dataclasses.replace would compute it)
+        new = object.__new__(ControlRequest)
+        new.__dict__.update(self.__dict__, **changes)
+        return new
 
     def with_say(self, text: str) -> ControlRequest:
-        return ControlRequest(self.walk, self.kick, self.beam, text, self.behaviour)
+        return self._copy(say=text)
 
     def named(self, behaviour: str) -> ControlRequest:
         """The same request, credited to ``behaviour``."""
-        return replace(self, behaviour=behaviour)
+        return self._copy(behaviour=behaviour)
 
     def to_action(self, low: NDArray[np.float64], high: NDArray[np.float64]) -> dict[str, Any]:
         """The env's Dict-form action; the walk command is clipped to [low, high]."""
@@ -52,3 +85,13 @@ class ControlRequest:
         if self.say:
             action["say"] = self.say
         return action
+
+
+def resolve_walks(requests: Sequence[ControlRequest]) -> None:
+    """Compute the pending walk commands of ``requests`` (a team's, this cycle) together
+    (``strategy.behaviours.walk_batch.walk_commands``): the same commands, fewer passes."""
+    from strategy.behaviours.walk_batch import walk_commands
+
+    pending = [r for r in requests if "walk" not in r.__dict__]
+    for request, walk in zip(pending, walk_commands([r.goal for r in pending])):
+        request.__dict__["walk"] = walk

@@ -9,21 +9,25 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from strategy.behaviours.control import ControlRequest
-from strategy.behaviours.navigation import walk_command
+from strategy.behaviours.walk_batch import WalkGoal
 from strategy.behaviours.skills import Skills
 from strategy.geometry import wrap_angle
 from strategy.perception.worldmodel import WorldModel
+
+_NO_PLAYERS = np.zeros((0, 2))
 
 
 def go_to(wm: WorldModel, target: ArrayLike, skills: Skills, face: ArrayLike | None = None,
           speed: float | None = None, avoid: bool = True,
           behaviour: str = "go_to") -> ControlRequest:
     """Walk to ``target`` (team frame), around the other players when ``avoid`` (potential
-    field), turning to face ``face`` near the target."""
-    obstacles = wm.obstacles() if avoid else np.zeros((0, 2))
-    walk = walk_command(wm.position, wm.heading, target, obstacles, skills.navigation,
-                        face=face, speed=speed)
-    return ControlRequest(walk=walk, behaviour=behaviour)
+    field), turning to face ``face`` near the target. The walk command is computed when
+    first read, or with the team's (``resolve_walks``)."""
+    goal = WalkGoal(wm.position, wm.heading, np.asarray(target, dtype=np.float64),
+                    *wm.obstacle_rows() if avoid else (_NO_PLAYERS, None),
+                    face=None if face is None else np.asarray(face, dtype=np.float64),
+                    speed=speed, params=skills.navigation)
+    return ControlRequest.walking(goal, behaviour)
 
 
 def face_ball(wm: WorldModel, skills: Skills) -> ControlRequest:

@@ -214,13 +214,20 @@ class WorldModel:
 
     def obstacles(self, exclude_self: bool = True) -> NDArray[np.float64]:
         """(M, 2) positions of every present player but oneself (to walk around)."""
+        rows, mask = self.obstacle_rows(exclude_self)
+        return rows[mask]
+
+    def obstacle_rows(self, exclude_self: bool = True
+                      ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+        """(every player row: teammates then opponents, the mask of the present ones but
+        oneself): ``obstacles() == rows[mask]``."""
         mask = np.concatenate((self.teammates_present, self.opponents_present))
         if exclude_self:
             mask[self.me] = False
-        both = self.__dict__.get("_players")  # teammates then opponents, set by perception
+        both = self.__dict__.get("_players")
         if both is None:
             both = np.concatenate((self.teammates, self.opponents))
-        return both[mask]
+        return both, mask
 
     def we_control_ball(self) -> bool:
         """Our closest upright player is nearer the ball than theirs (or the ball is in their

@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 
+from strategy.behaviours.control import resolve_walks
 from strategy.behaviours.skills import Skills
 from strategy.geometry import BallRoll
 from strategy.perception.team_worldmodels import team_world_models
@@ -75,14 +76,15 @@ class FullTeam:
         if self.perceiver is None:  # state mode: the team's world models in one pass
             beliefs = team_world_models(observations, self.index, self.context.field,
                                         self.skills.ball_roll)
-            return {agent: self.players[agent].decide(wm).to_action(self.low, self.high)
-                    for agent, wm in beliefs.items()}
+            requests = {agent: self.players[agent].decide(wm) for agent, wm in beliefs.items()}
+            resolve_walks(list(requests.values()))  # the team's walk commands in one pass
+            return {agent: r.to_action(self.low, self.high) for agent, r in requests.items()}
         beliefs = self.perceiver.update(observations)
-        out = {}
+        requests = {}
         for agent, wm in beliefs.items():
             player = self.players[agent]
-            request = player.decide(wm, self.perceiver.reports[player.me])
+            request = requests[agent] = player.decide(wm, self.perceiver.reports[player.me])
             if request.beam is not None:
                 self.perceiver.beamed(player.me, request.beam)
-            out[agent] = request.to_action(self.low, self.high)
-        return out
+        resolve_walks(list(requests.values()))
+        return {agent: r.to_action(self.low, self.high) for agent, r in requests.items()}

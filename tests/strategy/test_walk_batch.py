@@ -1,0 +1,70 @@
+"""A team's walk commands computed together equal each agent's ``walk_command``, bit for bit,
+and a pending walk request behaves like a computed one."""
+
+import numpy as np
+import pytest
+
+from strategy.behaviours.control import ControlRequest, resolve_walks
+from strategy.behaviours.navigation import NavigationParams, walk_command
+from strategy.behaviours.walk_batch import WalkGoal, walk_commands
+
+PARAMS = (NavigationParams(), NavigationParams(influence_m=3.0, omni_m=0.0, arrive_m=0.0))
+
+
+def _goals(rng, params, team=11, grid=0.01):
+    players = np.round(rng.uniform(-4, 4, (2 * team, 2)) / grid) * grid + 0.0
+    goals = []
+    for me in range(team):
+        position = players[me]
+        kind = rng.integers(0, 6)
+        if kind == 0:
+            target = position.copy()                       # already there
+        elif kind == 1:
+            target = position + rng.uniform(-0.3, 0.3, 2)  # omnidirectional zone
+        elif kind == 2:
+            target = players[rng.integers(0, 2 * team)]    # onto another player
+        else:
+            target = np.round(rng.uniform(-6, 6, 2) / grid) * grid
+        avoid = rng.uniform(size=2 * team) < 0.9
+        avoid[me] = False
+        face = None if rng.uniform() < 0.3 else rng.uniform(-6, 6, 2)
+        speed = None if rng.uniform() < 0.5 else float(rng.uniform(0.2, 1.5))
+        goals.append(WalkGoal(position, float(rng.uniform(-np.pi, np.pi)), target, players,
+                              None if rng.uniform() < 0.15 else avoid, face, speed, params))
+    return goals
+
+
+@pytest.mark.parametrize("params", PARAMS)
+def test_batched_commands_equal_one_by_one(params):
+    rng = np.random.default_rng(0)
+    for _ in range(300):
+        goals = _goals(rng, params)
+        batched = walk_commands(goals)
+        for goal, command in zip(goals, batched):
+            alone = walk_command(goal.position, goal.heading, goal.target, goal.obstacles(),
+                                 params, face=goal.face, speed=goal.speed)
+            assert command.dtype == alone.dtype and command.tobytes() == alone.tobytes()
+
+
+def test_pending_request_computes_its_walk_on_first_read_and_keeps_it():
+    goal = _goals(np.random.default_rng(1), PARAMS[0])[3]
+    request = ControlRequest.walking(goal, "go_to")
+    assert request.pending
+    said = request.with_say("hi")
+    assert said.pending and said.say == "hi" and said.behaviour == "go_to"
+    walk = request.walk
+    assert not request.pending and walk.tobytes() == goal.command().tobytes()
+    assert request.walk is walk
+    action = said.to_action(np.full(3, -9.0), np.full(3, 9.0))
+    assert action["walk"].tobytes() == walk.tobytes() and action["say"] == "hi"
+
+
+def test_resolve_walks_fills_every_pending_request():
+    goals = _goals(np.random.default_rng(2), PARAMS[0])
+    requests = [ControlRequest.walking(g, "go_to") for g in goals] + [ControlRequest()]
+    resolve_walks(requests)
+    assert not any(r.pending for r in requests)
+    for goal, request in zip(goals, requests):
+        assert request.walk.tobytes() == goal.command().tobytes()
+    with pytest.raises(AttributeError):
+        ControlRequest().not_a_field  # noqa: B018
