@@ -21,6 +21,8 @@ REASON_INAUDIBLE = "inaudible"  # `mj`: said at volume 0 (listener -1: nobody he
 
 _TWO_PI = 2.0 * math.pi
 _new = tuple.__new__  # builds a NamedTuple from a tuple without the Python-level __new__
+_INT = {int}
+_REAL = {int, float}
 
 
 class Utterance(NamedTuple):
@@ -62,21 +64,50 @@ class Drop(NamedTuple):
 class Delivery:
     """What every listener hears from one cycle's utterances.
 
-    `heard[i]`: list of Heard for listener i, at most `max_heard`, self first.
+    `heard[i]`: list of Heard for listener i, at most `max_heard`, self first (built on first
+    access from `pairs`).
     `dropped`: list of Drop (built on first access, so a caller that ignores it pays nothing).
+    `pairs`: the same as arrays, or None (a delivery nobody spoke into): a tuple
+    `(listener, speaker, text, direction, is_self, teammate)` over every (listener, message)
+    heard, sorted by listener and, within a listener, in `heard[i]` order: `listener`,
+    `speaker` (agent index) int arrays, `text` an object array of str, `direction` a float
+    array, `is_self` and `teammate` bool arrays. `heard` is built from exactly these values.
     """
 
-    __slots__ = ("heard", "_dropped", "_pending")
+    __slots__ = ("_heard", "_dropped", "_pending", "pairs", "_n")
 
     def __init__(
         self,
-        heard: list[list[Heard]],
+        heard: list[list[Heard]] | None,
         dropped: list[Drop] | None = None,
         pending: Any = None,
+        pairs: tuple | None = None,
+        n_agents: int = 0,
     ) -> None:
-        self.heard = heard
+        self._heard = heard
         self._dropped = dropped if dropped is not None else []
         self._pending = pending
+        self.pairs = pairs
+        self._n = n_agents
+
+    @property
+    def heard(self) -> list[list[Heard]]:
+        """Per listener, the list of Heard (at most `max_heard`, self first)."""
+        if self._heard is None:
+            out: list[list[Heard]] = [[] for _ in range(self._n)]
+            li, speaker, text, direction, me, mate = self.pairs
+            for lst_i, spk, t, a, s, m in zip(
+                li.tolist(),
+                speaker.tolist(),
+                text.tolist(),
+                direction.tolist(),
+                me.tolist(),
+                mate.tolist(),
+                strict=True,
+            ):
+                out[lst_i].append(_new(Heard, (spk, t, a, s, m)))
+            self._heard = out
+        return self._heard
 
     @property
     def dropped(self) -> list[Drop]:
@@ -244,7 +275,12 @@ class Channel:
         texts: list[str] = []
         volumes: list[float] = []
         illegal: list[Drop] = []
+        fast = False
         if utterances:
+            fast = self._well_formed(utterances)
+        if fast:
+            speakers, texts, volumes = map(list, zip(*utterances))
+        elif utterances:
             seen = bytearray(n)
             check = prof.check_message
             fast_ok = None if prof.base64_payload else prof._legal_re  # simple alphabets only
@@ -296,6 +332,27 @@ class Channel:
         if len(self._queue) >= prof.delay_cycles:
             return self._queue.popleft()
         return Delivery([[] for _ in range(n)])
+
+    def _well_formed(self, utterances: Sequence[Utterance]) -> bool:
+        """True when every utterance is legal, at once (the usual case): distinct int speakers
+        in range, non-empty legal texts and (volume profiles) a volume in (0, max_volume].
+        False sends `deliver` through its checks one by one, which name the fault."""
+        prof = self.profile
+        try:
+            speakers, texts, volumes = zip(*utterances)
+        except (TypeError, ValueError):
+            return False
+        if set(map(type, speakers)) != _INT or len(set(speakers)) != len(speakers):
+            return False
+        if min(speakers) < 0 or max(speakers) >= self.n_agents:
+            return False
+        if prof.attenuation_db_per_doubling > 0.0:
+            if not set(map(type, volumes)) <= _REAL:
+                return False
+            max_volume = prof.max_volume
+            if not all(0.0 < v <= max_volume for v in volumes):
+                return False
+        return prof.all_legal(texts)
 
     def _route(
         self,
@@ -430,18 +487,15 @@ class Channel:
             ang = np.trunc(ang * (180.0 / math.pi / q)) * (q * math.pi / 180.0)
         pair_self = is_self[si, li]
         ang[pair_self] = 0.0
-
-        out: list[list[Heard]] = [[] for _ in range(self.n_agents)]
-        for lst_i, s_i, a, me, mate in zip(
-            li.tolist(),
-            si.tolist(),
-            ang.tolist(),
-            pair_self.tolist(),
-            same[si, li].tolist(),
-            strict=True,
-        ):
-            out[lst_i].append(_new(Heard, (speakers[s_i], texts[s_i], a, me, mate)))
-        return Delivery(out, illegal, (spk, chunks))
+        pairs = (
+            li,
+            spk[si],
+            np.array(texts, dtype=object)[si],
+            ang,
+            pair_self,
+            same[si, li],
+        )
+        return Delivery(None, illegal, (spk, chunks), pairs, self.n_agents)
 
 
 def make_channel(

@@ -97,6 +97,7 @@ class ChannelProfile:
     direction_quantum_deg: float = 0.0
     _charset_set: frozenset = field(init=False, repr=False, compare=False)
     _legal_re: Any = field(init=False, repr=False, compare=False)
+    _batch_re: Any = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if self.max_chars < 0 or self.max_heard < 0 or self.delay_cycles < 1:
@@ -115,6 +116,23 @@ class ChannelProfile:
         object.__setattr__(
             self, "_legal_re", re.compile("[" + re.escape(self.charset) + "]*").fullmatch
         )
+        object.__setattr__(self, "_batch_re", _batch_pattern(self))
+
+    def all_legal(self, texts: Any) -> bool:
+        """True when every text of `texts` (a sequence of str) is a legal, non-empty say text,
+        i.e. `check_message(t) is None and t != ""` for each: one regular-expression match over
+        all of them. False when any is not (or is not a str); `check_message` then says why."""
+        batch = self._batch_re
+        if batch is None:
+            return all(type(t) is str and t and self.check_message(t) is None for t in texts)
+        if not texts:
+            return True
+        try:
+            joined = _SEP.join(texts)
+        except TypeError:
+            return False
+        # A text holding the separator itself would split in two: count them.
+        return joined.count(_SEP) == len(texts) - 1 and batch(joined + _SEP) is not None
 
     def check_message(self, text: Any) -> str | None:
         """Return None if `text` is a legal say text under this profile, else the reason.
@@ -138,6 +156,39 @@ class ChannelProfile:
 
 
 _PADDED_B64 = re.compile("[A-Za-z0-9+/]*={0,2}").fullmatch
+_SEP = "\n"  # separates the texts of one `all_legal` match (not a legal character there)
+
+
+def _batch_pattern(profile: "ChannelProfile") -> Any:
+    """The `fullmatch` of a pattern matching "text\n" repeated, for legal non-empty texts of
+    `profile` (None when "\n" is a legal character: `all_legal` then checks text by text)."""
+    if _SEP in profile.charset:
+        return None
+    if not profile.base64_payload:
+        if profile.max_chars < 1:
+            return re.compile(re.escape(_SEP) + "{0}").fullmatch  # only the empty batch
+        one = "[" + re.escape(profile.charset) + "]{1,%d}" % profile.max_chars
+    else:
+        # Padded base64 of 1..payload_bytes bytes, at most max_chars characters, using only
+        # characters of the charset: g full groups of 4, then a full, "xxx=" or "xx==" group.
+        data = "".join(c for c in BASE64_ALPHABET if c in profile.charset)
+        d = "[" + re.escape(data) + "]"
+        pad_ok = "=" in profile.charset
+        alts = []
+        for g in range(profile.max_chars // 4):
+            lead = d + "{%d}" % (4 * g) if g else ""
+            if 4 * (g + 1) > profile.max_chars:
+                break
+            if 3 * g + 3 <= profile.payload_bytes:
+                alts.append(lead + d + "{4}")
+            if pad_ok and 3 * g + 2 <= profile.payload_bytes:
+                alts.append(lead + d + "{3}=")
+            if pad_ok and 3 * g + 1 <= profile.payload_bytes:
+                alts.append(lead + d + "{2}==")
+        if not alts:
+            return re.compile(re.escape(_SEP) + "{0}").fullmatch
+        one = "(?:" + "|".join(alts) + ")"
+    return re.compile("(?:" + one + re.escape(_SEP) + ")*").fullmatch
 
 SIMSPARK = ChannelProfile(
     name="simspark",

@@ -20,6 +20,7 @@ from teamenv.sim.simulation import Commands
 
 DICT_KEYS = ("walk", "kick", "beam", "beam_request", "say")
 _FAST_KEYS = frozenset({"walk", "kick", "say"})
+_DICT = {dict}
 BOX_SIZE = 9
 
 
@@ -39,6 +40,10 @@ class ActionParser:
         self._walk_lo, self._walk_hi = self.walk_low - 1e-6, self.walk_high + 1e-6
         self._kick_lo, self._kick_hi = self.kick_low - 1e-6, self.kick_high + 1e-6
         self.channel = channel
+        profile = getattr(channel, "profile", None)
+        self._all_legal = profile.all_legal if hasattr(profile, "all_legal") else (
+            lambda texts: all(isinstance(t, str) and channel.check_message(t) is None
+                              for t in texts))
         self.action_format = action_format
         self.strict = strict
 
@@ -57,20 +62,34 @@ class ActionParser:
     def _fill_dict_fast(self, cmd: Commands, rows: list[int], actions: list[Any]) -> bool:
         """Vectorized path for the common case (only valid walk/kick/say keys). Returns False,
         touching nothing, when anything is unusual; the per-agent path then names the fault."""
-        walk_rows, walks, kick_rows, kicks, says = [], [], [], [], []
-        fast_keys = _FAST_KEYS
-        for row, action in zip(rows, actions):
-            if type(action) is not dict or not fast_keys.issuperset(action):
-                return False
-            if "walk" in action:
-                walk_rows.append(row)
-                walks.append(action["walk"])
-            if "kick" in action:
-                kick_rows.append(row)
-                kicks.append(action["kick"])
-            text = action.get("say")
-            if text:
-                says.append((row, text))
+        if set(map(type, actions)) != _DICT:
+            return False
+        keys = actions[0].keys()
+        if keys <= _FAST_KEYS and all(action.keys() == keys for action in actions):
+            # Every agent gives the same keys (the usual case): gather column by column.
+            walk_rows = kick_rows = rows
+            walks = [action["walk"] for action in actions] if "walk" in keys else []
+            kicks = [action["kick"] for action in actions] if "kick" in keys else []
+            if "say" in keys:
+                says = [(row, action["say"]) for row, action in zip(rows, actions)
+                        if action["say"]]
+            else:
+                says = []
+        else:
+            walk_rows, walks, kick_rows, kicks, says = [], [], [], [], []
+            fast_keys = _FAST_KEYS
+            for row, action in zip(rows, actions):
+                if not fast_keys.issuperset(action):
+                    return False
+                if "walk" in action:
+                    walk_rows.append(row)
+                    walks.append(action["walk"])
+                if "kick" in action:
+                    kick_rows.append(row)
+                    kicks.append(action["kick"])
+                text = action.get("say")
+                if text:
+                    says.append((row, text))
         try:
             walk = np.asarray(walks, dtype=float).reshape(len(walks), 3)
             kick = np.asarray(kicks, dtype=float).reshape(len(kicks), 2)
@@ -81,16 +100,17 @@ class ActionParser:
             return False
         if kicks and not ((kick >= self._kick_lo) & (kick <= self._kick_hi)).all():
             return False
-        if says and any(not isinstance(text, str) or self.channel.check_message(text) is not None
-                        for _, text in says):
+        # Legal non-empty str texts, all in one match (False for a non-str: path below names it).
+        if says and not self._all_legal([text for _, text in says]):
             return False
-        if walk_rows:
+        if walks:
             cmd.walk[walk_rows] = walk
-        if kick_rows:
+        if kicks:
             cmd.kick_power[kick_rows] = kick[:, 0]
             cmd.kick_dir[kick_rows] = kick[:, 1]
+        say = cmd.say
         for row, text in says:
-            cmd.say[row] = text
+            say[row] = text
         return True
 
     # -- flat Box --------------------------------------------------------------------------

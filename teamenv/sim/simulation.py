@@ -53,8 +53,13 @@ class CycleReport:
     kicks: list[tuple[int, float, float]] = field(default_factory=list)  # player, dist, world dir
     beams: list[int] = field(default_factory=list)
     beams_refused: list[int] = field(default_factory=list)
-    heard: list[list[comms.Heard]] = field(default_factory=list)
     delivery: comms.Delivery | None = None  # the channel's delivery when anybody spoke
+    deliveries: comms.Delivery | None = field(default=None, repr=False)  # every cycle's
+
+    @property
+    def heard(self) -> list[list[comms.Heard]]:
+        """What each listener heard this cycle (built on first access)."""
+        return [] if self.deliveries is None else self.deliveries.heard
 
     @property
     def dropped(self) -> list[comms.Drop]:
@@ -230,19 +235,29 @@ class Simulation:
             self._heard_any = False
         poses = self.world.player_poses()
         delivery = self.channel.deliver(utterances, poses[:, :2], poses[:, 2], self.rng)
-        report.heard = heard = delivery.heard
+        report.deliveries = delivery
         if not utterances:
             return
         report.delivery = delivery
-        counts = list(map(len, heard))
-        total = sum(counts)
-        if not total:
-            return
+        pairs = delivery.pairs
+        if pairs is None:  # built from the Heard lists (a delivery without arrays)
+            heard = delivery.heard
+            counts = list(map(len, heard))
+            if not sum(counts):
+                return
+            _, texts, direction, is_self, teammate = zip(*chain.from_iterable(heard))
+            listener = np.repeat(self._listener_ids, counts)
+            is_self_a = np.array(is_self, dtype=bool)
+            mate_a = np.array(teammate, dtype=bool)
+            direction_a = np.array(direction, dtype=float)
+            texts_a = np.array(texts, dtype=object)
+        else:
+            listener, _, texts_a, direction_a, is_self_a, mate_a = pairs
+            if not listener.size:
+                return
+            counts = np.bincount(listener, minlength=self.n)
+        total = len(listener)
         # All (listener, message) pairs at once: sort by listener, then slot class (stable).
-        _, texts, direction, is_self, teammate = zip(*chain.from_iterable(heard))
-        listener = np.repeat(self._listener_ids, counts)
-        is_self_a = np.array(is_self, dtype=bool)
-        mate_a = np.array(teammate, dtype=bool)
         rank = np.where(is_self_a, 0, np.where(mate_a, 1, 2))
         order = np.lexsort((rank, listener))
         listener = listener[order]
@@ -256,9 +271,9 @@ class Simulation:
         info[listener, slot, 0] = 1.0
         info[listener, slot, 1] = is_self_a[keep]
         info[listener, slot, 2] = mate_a[keep]
-        info[listener, slot, 3] = np.array(direction, dtype=float)[keep]
+        info[listener, slot, 3] = direction_a[keep]
         table = np.full((self.n, self.heard_slots), "", dtype=object)
-        table[listener, slot] = np.array(texts, dtype=object)[keep]
+        table[listener, slot] = texts_a[keep]
         self._heard_texts = list(map(tuple, table.tolist()))
         self._heard_any = True
 
