@@ -140,7 +140,7 @@ def play_match(
     left: str, right: str, seed: int, options: MatchOptions | Mapping[str, Any] | None = None,
     left_config: Mapping[str, Any] | None = None, right_config: Mapping[str, Any] | None = None,
     cycle_time_budget_s: float | None = None, stall_timeout_s: float | None = 10.0,
-    replay_path: str | Path | None = None,
+    replay_path: str | Path | None = None, *, team_versions: tuple[str, str] | None = None,
 ) -> MatchResult:
     """Play a whole match; never raises for a team's fault (the team forfeits instead).
 
@@ -148,6 +148,8 @@ def play_match(
     ``stall_timeout_s``: a cycle that has not finished after this long is interrupted and the
     team that was acting forfeits ("stalled"); None disables the watchdog.
     ``replay_path``: write a replay (.npz) of the match there.
+    ``team_versions``: the (left, right) teams' versions when the caller has looked them up
+    already (a tournament worker does it once per team); None looks them up (``team_version``).
     """
     if options is None:
         options = MatchOptions()
@@ -188,7 +190,7 @@ def play_match(
     result = MatchResult(
         seed=seed, left=left, right=right, score=tuple(env.sim.referee.score), goals=tuple(goals),
         cycles=env.sim.cycle, wall_s=wall, forfeit=forfeit,
-        team_versions=(team_version(left), team_version(right)),
+        team_versions=team_versions or (team_version(left), team_version(right)),
         team_time_s=(env.team_time_s.get("left", 0.0), env.team_time_s.get("right", 0.0)),
         options=options)
     if recorder:

@@ -1,4 +1,5 @@
-"""Execution backends: play MatchTasks in a local process pool (default) or on a Ray cluster.
+"""Execution backends: play MatchTasks in a local process pool (default), on a Ray cluster, or
+in the calling process (serial).
 
 A backend only plays matches and yields outcomes as they finish; the caller (the runner, in the
 parent process) writes them. Each match is independent and deterministic from its task, so
@@ -18,10 +19,15 @@ from typing import Any, Protocol
 
 from teamenv.errors import MissingExtraError
 from teamenv.match import MatchResult, play_match
+from teamenv.teams import resolve_team_class, team_version
 from teamenv.tournament.errors import TournamentConfigError
 from teamenv.tournament.schedule import MatchTask
 
-BACKENDS = ("process", "ray")
+BACKENDS = ("process", "ray", "serial")
+
+# Per-process caches of a worker (a pool process, a Ray worker, or the caller for "serial"):
+# filled by its first match with a team, reused by every later one, never shipped anywhere.
+_TEAM_VERSIONS: dict[str, str] = {}
 
 
 @dataclass(frozen=True)
@@ -33,12 +39,45 @@ class Outcome:
     error: str | None = None
 
 
+def _team_version(name: str) -> str:
+    """The version of team ``name``, looked up (entry points, module) once per process."""
+    version = _TEAM_VERSIONS.get(name)
+    if version is None:
+        version = _TEAM_VERSIONS[name] = team_version(name)
+    return version
+
+
+def warm_up(names: Sequence[str] = ()) -> int:
+    """Prepare this process to play matches: import teamenv's match code and each team in
+    ``names`` once, and look up their versions; returns the process id. A team that fails to
+    load is left for its match to report (it forfeits or fails there, as it would cold)."""
+    for name in names:
+        try:
+            resolve_team_class(name)
+            _team_version(name)
+        except Exception:  # reported by the match that uses the team
+            pass
+    return os.getpid()
+
+
 def execute_task(task: MatchTask) -> MatchResult:
-    """Play one scheduled match (in whatever process runs it). Team faults become forfeits."""
-    return play_match(task.left.name, task.right.name, task.seed, task.options,
+    """Play one scheduled match (in whatever process runs it). Team faults become forfeits.
+
+    A fresh env is built for every match: an env reset with a new seed is not bit-identical
+    to a fresh one (the physics world keeps state, such as pymunk's cached contacts, across a
+    reset), and a match must depend on its task only, never on what its worker played before.
+    """
+    left, right = task.left.name, task.right.name
+    return play_match(left, right, task.seed, task.options,
                       left_config=task.left.config_dict, right_config=task.right.config_dict,
                       cycle_time_budget_s=task.cycle_time_budget_s,
-                      stall_timeout_s=task.stall_timeout_s, replay_path=task.replay_path)
+                      stall_timeout_s=task.stall_timeout_s, replay_path=task.replay_path,
+                      team_versions=(_team_version(left), _team_version(right)))
+
+
+def team_names(tasks: Sequence[MatchTask]) -> tuple[str, ...]:
+    """The distinct team names (registered or ``module:Class``) that ``tasks`` play."""
+    return tuple(sorted({spec.name for task in tasks for spec in (task.left, task.right)}))
 
 
 class Backend(Protocol):
@@ -59,8 +98,25 @@ def default_jobs() -> int:
         return max(1, os.cpu_count() or 1)
 
 
+def default_start_method() -> str:
+    """``forkserver`` where the platform has it (Linux, macOS), else ``spawn``."""
+    return "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
+
+
+# What the fork server imports once, before it forks any worker: the match code (numpy,
+# pymunk, the env). Team modules are not preloaded (a team's import must not be able to take
+# the server down); each worker imports its tournament's teams once, when it starts.
+_FORKSERVER_PRELOAD = ["__main__", "teamenv.tournament.backends"]
+
+
 class ProcessPoolBackend:
-    """A local pool of ``jobs`` worker processes (``spawn`` start method).
+    """A local pool of ``jobs`` worker processes, started once per run and reused for every
+    match.
+
+    Workers come from a fork server (``forkserver`` start method where available, else
+    ``spawn``) that has imported teamenv's match code once, so a worker starts in
+    milliseconds rather than re-importing everything; each worker then imports the
+    tournament's teams once (``warm_up``) before its first match.
 
     A worker that dies (segfault, ``os._exit``, OOM kill) breaks a ProcessPoolExecutor; the
     pool is then rebuilt and the matches that were in flight are replayed one at a time, each
@@ -71,27 +127,41 @@ class ProcessPoolBackend:
 
     name = "process"
 
-    def __init__(self, jobs: int | None = None, start_method: str = "spawn") -> None:
+    def __init__(self, jobs: int | None = None, start_method: str | None = None) -> None:
         if jobs is not None and (isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1):
             raise TournamentConfigError(f"jobs: must be an int >= 1, got {jobs!r}")
         self.workers = jobs or default_jobs()
-        self.context = multiprocessing.get_context(start_method)
+        self.start_method = start_method or default_start_method()
+        self.context = multiprocessing.get_context(self.start_method)
+
+    def start_pool(self, names: Sequence[str] = (), workers: int | None = None
+                   ) -> ProcessPoolExecutor:
+        """A pool of ``workers`` (default: ``self.workers``) processes that import the teams
+        ``names`` once each, when they start."""
+        if self.start_method == "forkserver":
+            # Only read when the fork server starts (once per parent process).
+            self.context.set_forkserver_preload(_FORKSERVER_PRELOAD)
+        return ProcessPoolExecutor(workers or self.workers, mp_context=self.context,
+                                   initializer=warm_up, initargs=(tuple(names),))
 
     def run(self, tasks: Sequence[MatchTask]) -> Iterator[Outcome]:
         pending: deque[MatchTask] = deque(tasks)
         suspects: deque[MatchTask] = deque()
+        names = team_names(tasks)
         while pending or suspects:
             while suspects:
                 yield self._run_isolated(suspects.popleft())
             if pending:
-                yield from self._run_pool(pending, suspects)
+                yield from self._run_pool(pending, suspects, names)
 
-    def _run_pool(self, pending: deque[MatchTask], suspects: deque[MatchTask]) -> Iterator[Outcome]:
+    def _run_pool(self, pending: deque[MatchTask], suspects: deque[MatchTask],
+                  names: tuple[str, ...]) -> Iterator[Outcome]:
         """Play from ``pending`` until it is empty or the pool breaks (in-flight -> suspects)."""
-        pool = ProcessPoolExecutor(self.workers, mp_context=self.context)
+        pool = self.start_pool(names, min(self.workers, len(pending)))
         inflight: dict[Future, MatchTask] = {}
         try:
             while pending or inflight:
+                # Two per worker in flight: a worker finds its next match queued when it ends one.
                 while pending and len(inflight) < 2 * self.workers:
                     task = pending.popleft()
                     inflight[pool.submit(execute_task, task)] = task
@@ -120,7 +190,7 @@ class ProcessPoolBackend:
             pool.shutdown(wait=not inflight, cancel_futures=True)
 
     def _run_isolated(self, task: MatchTask) -> Outcome:
-        with ProcessPoolExecutor(1, mp_context=self.context) as pool:
+        with self.start_pool((task.left.name, task.right.name), 1) as pool:
             try:
                 return Outcome(task, pool.submit(execute_task, task).result())
             except BrokenProcessPool as exc:
@@ -137,6 +207,28 @@ def _terminate_workers(pool: ProcessPoolExecutor) -> None:
             process.terminate()
         except Exception:  # already gone
             pass
+
+
+class SerialBackend:
+    """Play every match in the calling process, one after another (no worker, no pool).
+
+    For debugging (a debugger or profiler sees the match) and as a baseline; it has no fault
+    isolation: a team that kills its process (segfault, ``os._exit``) ends the run (matches
+    stored so far stay stored; ``--resume`` continues).
+    """
+
+    name = "serial"
+    workers = 1
+
+    def run(self, tasks: Sequence[MatchTask]) -> Iterator[Outcome]:
+        warm_up(team_names(tasks))
+        for task in tasks:
+            try:
+                result = execute_task(task)
+            except Exception as exc:  # play_match itself failed: not a team fault
+                yield Outcome(task, error=f"{type(exc).__name__}: {exc}")
+                continue
+            yield Outcome(task, result)
 
 
 class RayBackend:
@@ -195,11 +287,14 @@ class RayBackend:
 
 def make_backend(backend: str | Backend = "process", jobs: int | None = None,
                  ray_address: str | None = None) -> Backend:
-    """A backend by name ("process" or "ray"; ``jobs`` = worker processes / local Ray CPUs)."""
+    """A backend by name ("process", "ray" or "serial"; ``jobs`` = worker processes / local
+    Ray CPUs; "serial" plays in this process and ignores ``jobs``)."""
     if not isinstance(backend, str):
         return backend
     if backend == "process":
         return ProcessPoolBackend(jobs)
     if backend == "ray":
         return RayBackend(address=ray_address, num_cpus=jobs if ray_address is None else None)
+    if backend == "serial":
+        return SerialBackend()
     raise TournamentConfigError(f"backend: {backend!r}; choose one of {list(BACKENDS)}")

@@ -45,7 +45,9 @@ def add_tournament_commands(subparsers: argparse._SubParsersAction) -> None:
                      help="a cycle running longer than this (s) forfeits the acting team")
     run.add_argument("-j", "--jobs", type=int, default=None,
                      help="worker processes (default: all cores) / local Ray CPUs")
-    run.add_argument("--backend", choices=("process", "ray"), default="process")
+    run.add_argument("--backend", choices=("process", "ray", "serial"), default="process",
+                     help="process: local worker pool (default); ray: Ray tasks; serial: "
+                     "every match in this process (no fault isolation; for debugging)")
     run.add_argument("--ray-address", default=None, help="Ray cluster address (e.g. auto)")
     run.add_argument("--replay-dir", type=Path, default=None, help="record every match here")
     run.add_argument("--resume", action="store_true", help="continue a stored tournament: "
