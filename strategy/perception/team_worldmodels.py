@@ -28,9 +28,13 @@ _MODES = {int(m): m for m in PlayMode}
 def team_world_models(observations: Mapping[str, Mapping[str, Any]],
                       index: Mapping[str, int], field: FieldSpec,
                       roll: BallRoll | None = None,
-                      resolution: float | None = BELIEF_RESOLUTION_M) -> dict[str, WorldModel]:
+                      resolution: float | None = BELIEF_RESOLUTION_M,
+                      ball_rest: bool = False) -> dict[str, WorldModel]:
     """``{agent: WorldModel.from_observation(obs, index[agent], field, agent, roll,
-    resolution)}`` for every agent in ``observations``, computed per team."""
+    resolution)}`` for every agent in ``observations``, computed per team.
+
+    ``ball_rest``: also fill each model's ``ball_rest()`` now, once for all agents that see
+    the same ball (teams that anticipate the ball, like ``full``, read it every cycle)."""
     agents = list(observations)
     stacked = _stack(observations, agents)
     if stacked is None:
@@ -58,44 +62,54 @@ def team_world_models(observations: Mapping[str, Mapping[str, Any]],
     flat[:, count + 2, 1] = s * bvx + c * bvy
     if resolution is not None:
         flat = _rounded(flat, resolution)
-    present_all = players[:, :, 4] > 0.5
-    down_all = players[:, :, 3] > 0.5
+    agents_n = len(agents)
+    me_rows = np.array([index[agent] for agent in agents])
+    every = np.arange(agents_n)
+    flat[every, me_rows] = flat[:, count]  # own row = own position
+    present = players[:, :n, 4] > 0.5
+    present[every, me_rows] = True
+    mates_fallen = players[:, :n, 3] > 0.5
     fallen_self = selfs[:, 6] > 0.5
+    mates_fallen[every, me_rows] = fallen_self
+    opponents_present = players[:, n:, 4] > 0.5
+    opponents_fallen = players[:, n:, 3] > 0.5
+    modes = [int(observations[agent]["play_mode"]) for agent in agents]
+    # belief keys: everything but the own pose and the texts heard, as bytes (one row each)
+    keys = np.concatenate((
+        flat[:, :count].reshape(agents_n, -1).view(np.uint8),
+        flat[:, count + 1:].reshape(agents_n, -1).view(np.uint8),
+        present.view(np.uint8), mates_fallen.view(np.uint8),
+        opponents_present.view(np.uint8), opponents_fallen.view(np.uint8),
+        np.array(modes, dtype="<u2").view(np.uint8).reshape(agents_n, 2)), axis=1)
     headings, vx, vy = heading.tolist(), selfs[:, 3].tolist(), selfs[:, 4].tolist()
+    fallen_list = fallen_self.tolist()
     roll = roll or BallRoll()
+    rests: dict[bytes, Any] = {}
     out = {}
     for a, agent in enumerate(agents):
-        me = index[agent]
         obs = observations[agent]
         rows = flat[a]
-        mates, opponents = rows[:n], rows[n:count]
-        position, ball, ball_velocity = rows[count], rows[count + 1], rows[count + 2]
-        mates[me] = position
-        present = present_all[a, :n].copy()
-        present[me] = True
-        mates_fallen = down_all[a, :n].copy()
-        fallen = bool(fallen_self[a])
-        mates_fallen[me] = fallen
-        opponents_present, opponents_fallen = present_all[a, n:], down_all[a, n:]
-        mode = int(obs["play_mode"])
-        play_mode = _MODES.get(mode) or PlayMode(mode)
+        mode = modes[a]
         game = obs["game"]
-        key = b"".join((rows[:count].tobytes(), rows[count + 1:].tobytes(),
-                        present.tobytes(), mates_fallen.tobytes(),
-                        opponents_present.tobytes(), opponents_fallen.tobytes(),
-                        int(play_mode).to_bytes(2, "little")))
         wm = _new_model(WorldModel)
         # a frozen dataclass: fill its instance dict (what __init__ would store)
         wm.__dict__.update(
-            me=me, position=position, heading=headings[a],
-            velocity=np.array((vx[a], vy[a])), fallen=fallen, ball=ball,
-            ball_velocity=ball_velocity, teammates=mates, teammates_present=present,
-            teammates_fallen=mates_fallen, opponents=opponents,
-            opponents_present=opponents_present, opponents_fallen=opponents_fallen,
-            play_mode=play_mode, time_s=float(game[0]), half=int(game[1]),
-            score=(int(game[2]), int(game[3])), heard=tuple(heard_texts(obs)), field=field,
-            roll=roll, belief_key=key, ball_age_s=0.0, pose_spread_m=0.0,
+            me=int(me_rows[a]), position=rows[count], heading=headings[a],
+            velocity=np.array((vx[a], vy[a])), fallen=fallen_list[a], ball=rows[count + 1],
+            ball_velocity=rows[count + 2], teammates=rows[:n], teammates_present=present[a],
+            teammates_fallen=mates_fallen[a], opponents=rows[n:count],
+            opponents_present=opponents_present[a], opponents_fallen=opponents_fallen[a],
+            play_mode=_MODES.get(mode) or PlayMode(mode), time_s=float(game[0]),
+            half=int(game[1]), score=(int(game[2]), int(game[3])),
+            heard=tuple(heard_texts(obs)), field=field, roll=roll,
+            belief_key=keys[a].tobytes(), ball_age_s=0.0, pose_spread_m=0.0,
             _players=rows[:count])
+        if ball_rest:  # the same pure function of the same ball: computed once per team
+            ball_key = rows[count + 1:].tobytes()
+            rest = rests.get(ball_key)
+            if rest is None:
+                rest = rests[ball_key] = roll.rest_point(rows[count + 1], rows[count + 2])
+            wm.__dict__["_ball_rest"] = rest
         out[agent] = wm
     return out
 

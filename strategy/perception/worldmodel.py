@@ -55,17 +55,13 @@ class WorldView:
 def heard_texts(obs: Mapping[str, Any]) -> list[str]:
     """The non-empty texts of ``obs`` heard from teammates or from oneself (opponents' dropped)."""
     texts = obs.get("heard_text", ())
+    if not len(texts):
+        return []
     info = np.asarray(obs.get("heard", np.zeros((0, 4))))
-    out = []
-    for k, text in enumerate(texts):
-        if not text or k >= len(info):
-            continue
-        present, from_self, from_mate = info[k, 0] > 0.5, info[k, 1] > 0.5, info[k, 2] > 0.5
-        if present and (from_self or from_mate):
-            out.append(text)
-    return out
-
-
+    if not len(info):
+        return []
+    ok = ((info[:, 0] > 0.5) & ((info[:, 1] > 0.5) | (info[:, 2] > 0.5))).tolist()
+    return [text for text, good in zip(texts, ok) if text and good]
 
 
 def world_view(players: ArrayLike, ball: ArrayLike, opponents: ArrayLike | None = None,

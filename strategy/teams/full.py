@@ -75,7 +75,7 @@ class FullTeam:
     def act(self, observations: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[str, Any]]:
         if self.perceiver is None:  # state mode: the team's world models in one pass
             beliefs = team_world_models(observations, self.index, self.context.field,
-                                        self.skills.ball_roll)
+                                        self.skills.ball_roll, ball_rest=True)
             requests = {agent: self.players[agent].decide(wm) for agent, wm in beliefs.items()}
             resolve_walks(list(requests.values()))  # the team's walk commands in one pass
             return {agent: r.to_action(self.low, self.high) for agent, r in requests.items()}

@@ -37,7 +37,8 @@ def test_batched_world_models_equal_one_by_one(resolution):
     low, high = env.parser.walk_low, env.parser.walk_high
     for step in range(400):
         mine = {a: obs[a] for a in left}
-        batched = team_world_models(mine, index, env.field, roll, resolution)
+        batched = team_world_models(mine, index, env.field, roll, resolution,
+                                    ball_rest=resolution is not None)
         assert list(batched) == left
         for agent in left:
             alone = WorldModel.from_observation(mine[agent], index[agent], env.field, agent,
