@@ -224,6 +224,11 @@ class Channel:
         self.teams: np.ndarray = teams_arr.astype(np.int8)
         self.teams.setflags(write=False)
         self._arange = np.arange(n_agents)
+        # Row s of these: speaker s against every listener.
+        self._is_self = np.eye(n_agents, dtype=bool)
+        self._not_self = ~self._is_self
+        self._same = self.teams[:, None] == self.teams[None, :]
+        self._classes = np.stack((self._same, ~self._same))  # [class, speaker, listener]
         self._cap = np.zeros((2, n_agents), dtype=np.int64)
         self._queue: deque[Delivery] = deque()
         self.reset()
@@ -384,15 +389,13 @@ class Channel:
         spk = np.asarray(speakers, dtype=np.intp)
         rel = pos[spk][:, None, :] - pos[None, :, :]  # listener -> speaker, (S, N, 2)
         dist = np.hypot(rel[..., 0], rel[..., 1])
-        is_self = spk[:, None] == self._arange[None, :]
-        same = self.teams[spk][:, None] == self.teams[None, :]
+        is_self = self._is_self[spk]  # (S, N) rows of the speakers
+        same = self._same[spk]
         in_range = dist <= prof.hearing_range_m
-        audible = in_range & ~is_self
+        audible = in_range & self._not_self[spk]
         chunks: list[tuple[np.ndarray, str]] = []
-        out_of_range = ~in_range
-        if out_of_range.any():
-            chunks.append((out_of_range, REASON_OUT_OF_RANGE))
-        arrival = np.arange(n_spk)[:, None]
+        if not in_range.all():
+            chunks.append((~in_range, REASON_OUT_OF_RANGE))
 
         if prof.attenuation_db_per_doubling > 0.0:
             # mj: loudest-first ranking, random loss of the quieter ones. Ranked by the
@@ -430,21 +433,38 @@ class Channel:
                     speakers, texts, illegal, spk, chunks, rel, hd, is_self, same, order[r, li], li
                 )
         else:
-            # simspark: range, then per-listener capacity in arrival order.
+            # simspark: range, then per-listener capacity in arrival order, per sender class
+            # (axis 0: teammates, opponents).
             cap = prof.capacity
-            if cap is None:
-                heard = audible
-            else:
-                heard = np.zeros_like(audible)
-                for g, group in ((0, same), (1, ~same)):
-                    m = audible & group
-                    ok = m & (np.cumsum(m, axis=0) <= (self._cap[g] // cap.cost))
-                    self._cap[g] -= cap.cost * ok.sum(axis=0)
-                    heard |= ok
-                over = audible & ~heard
+            by_class = audible & self._classes[:, spk]  # (2, S, N)
+            if cap is not None:
+                ok = by_class & (np.cumsum(by_class, axis=1) <= (self._cap // cap.cost)[:, None])
+                self._cap -= cap.cost * ok.sum(axis=1)
+                over = by_class & ~ok
+                by_class = ok
                 if over.any():
-                    chunks.append((over, REASON_CAPACITY))
-            sort_key = np.where(same, 1, 2) * n_spk + arrival
+                    chunks.append((over[0] | over[1], REASON_CAPACITY))
+            heard = by_class[0] | by_class[1]
+            # Per listener: own message, then teammates', then opponents', each in arrival
+            # order: the transposed (3S, N) stack of those masks lists them in that order.
+            blocks = np.concatenate(
+                (is_self[None], by_class) if prof.self_echo else by_class
+            ).reshape(-1, n)
+            li, si = np.nonzero(blocks.T)
+            if li.size:
+                si %= n_spk
+                counts = np.bincount(li, minlength=n)
+                if counts.max() > prof.max_heard:
+                    within = np.arange(li.size) - (np.cumsum(counts) - counts)[li]
+                    keep = within < prof.max_heard
+                    over = np.zeros_like(heard)
+                    over[si[~keep], li[~keep]] = True
+                    chunks.append((over, REASON_MAX_HEARD))
+                    li = li[keep]
+                    si = si[keep]
+            return self._assemble(
+                speakers, texts, illegal, spk, chunks, rel, hd, is_self, same, si, li
+            )
         if prof.self_echo:
             heard = heard | is_self
         sort_key = np.where(is_self, -1, sort_key)

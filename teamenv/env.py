@@ -21,6 +21,7 @@ from teamenv.config import (
 )
 from teamenv.errors import ActionError, ConfigError, TeamFault
 from teamenv.field import FieldSpec, field_preset
+from teamenv.sim.perception import ObservationRows
 from teamenv.sim.playmode import PlayMode
 from teamenv.sim.simulation import SIM_PHASES, Commands, CycleReport, Simulation
 from teamenv.teams import TeamContext, make_team
@@ -433,7 +434,7 @@ class SoccerParallelEnv(ParallelEnv):
             team_obs = self.sim.observations(flat=False)
             self._obs_all = self.sim.observations(flat=True)
         else:
-            self._obs_all = self.sim.observations(flat=flat)
+            self._obs_all = self.sim.observations(flat=flat, lazy=not flat)
             team_obs = self._obs_all
         t0 = self._clock()
         rows = self._team_rows
@@ -445,7 +446,11 @@ class SoccerParallelEnv(ParallelEnv):
 
     def _agent_observations(self) -> dict[str, Any]:
         t0 = self._clock()
-        out = {a: self._obs_all[self._row[a]] for a in self.agents}
+        obs_all = self._obs_all
+        if isinstance(obs_all, ObservationRows):  # each agent's dict built on first use
+            out = LazyObservations(self.agents, obs_all, self._row)
+        else:
+            out = {a: obs_all[self._row[a]] for a in self.agents}
         self._phase_s["perception"] += self._clock() - t0
         return out
 
@@ -576,6 +581,50 @@ class LazyInfos(dict):
         return self.__reduce__()
 
 
+_UNBUILT = object()  # the value of an agent whose observation is not built yet
+
+
+class LazyObservations(dict):
+    """The observations of one step: a real ``dict`` (agent -> observation dict) whose values
+    are built the first time each is looked up (``obs[agent]``, ``get``); any other use of
+    the values (``items()``, ``values()``, comparison, copying, pickling, printing...) builds
+    them all first. Keys, ``len`` and ``in`` need no build. The values are the dicts an eager
+    build gives. Pickled, it is a plain ``dict``."""
+
+    __slots__ = ("_rows", "_row_of")
+
+    def __init__(self, agents: list[str], rows: ObservationRows, row_of: dict[str, int]) -> None:
+        dict.__init__(self, dict.fromkeys(agents, _UNBUILT))
+        self._rows: ObservationRows | None = rows
+        self._row_of = row_of
+
+    def __getitem__(self, agent):
+        value = dict.__getitem__(self, agent)
+        if value is _UNBUILT:
+            value = self._rows[self._row_of[agent]]
+            dict.__setitem__(self, agent, value)
+        return value
+
+    def get(self, agent, default=None):
+        return self[agent] if dict.__contains__(self, agent) else default
+
+    def __iter__(self):
+        # Defined here so that dict(obs), {**obs} and dict.update(obs) go through keys() and
+        # __getitem__ (CPython copies a dict subclass's storage directly only when it keeps
+        # dict's own __iter__).
+        return dict.__iter__(self)
+
+    def _materialize(self) -> None:
+        if self._rows is not None:
+            for agent, value in dict.items(self):
+                if value is _UNBUILT:
+                    dict.__setitem__(self, agent, self._rows[self._row_of[agent]])
+            self._rows = None
+
+    __reduce__ = LazyInfos.__reduce__
+    __reduce_ex__ = LazyInfos.__reduce_ex__
+
+
 def _lazy_method(name: str) -> Callable:
     base = getattr(dict, name)
 
@@ -584,7 +633,7 @@ def _lazy_method(name: str) -> Callable:
         return base(self, *args, **kwargs)
 
     method.__name__ = name
-    method.__qualname__ = f"LazyInfos.{name}"
+    method.__qualname__ = f"lazy.{name}"
     method.__doc__ = base.__doc__
     return method
 
@@ -594,8 +643,12 @@ for _name in ("__getitem__", "get", "__iter__", "__reversed__", "__len__", "__co
               "__ior__", "copy", "pop", "popitem", "setdefault", "update", "__setitem__",
               "__delitem__", "clear", "__sizeof__"):
     setattr(LazyInfos, _name, _lazy_method(_name))
+for _name in ("values", "items", "__eq__", "__ne__", "__repr__", "__or__", "__ror__",
+              "__ior__", "copy", "pop", "popitem", "setdefault", "update", "__sizeof__"):
+    setattr(LazyObservations, _name, _lazy_method(_name))
 del _name
 LazyInfos.__hash__ = None  # type: ignore[assignment]
+LazyObservations.__hash__ = None  # type: ignore[assignment]
 
 
 def _choice(name: str, value: Any, allowed: tuple) -> None:

@@ -55,9 +55,11 @@ class StatePerception:
         self, poses: np.ndarray, velocities: np.ndarray, ball: np.ndarray, fallen: np.ndarray,
         mode: PlayMode, time_s: float, half: int, score: Sequence[int],
         attack_sign: Sequence[float], heard_info: np.ndarray, heard_texts: Sequence[tuple],
-        flat: bool = False,
+        flat: bool = False, lazy: bool = False,
     ) -> list[Any]:
         """Observations of all 2N agents, in player order (Dict form, or rows when ``flat``).
+        ``lazy`` (Dict form): an ``ObservationRows`` sequence whose dicts are built on first
+        access, with the same values as the list.
 
         ``heard_info`` (n, K, 4): present, from self, from a teammate, direction per heard
         slot; ``heard_texts``: per agent, a tuple of K texts ("" = empty slot)."""
@@ -118,6 +120,8 @@ class StatePerception:
         out = rows.astype(np.float32)
         if flat:
             return list(out)
+        if lazy:
+            return ObservationRows(self, out, heard_texts)
         players = out[:, self._o_players:self._o_mode].reshape(n, n, PLAYER_DIM)
         team_modes = self._team_modes
         return [
@@ -129,3 +133,41 @@ class StatePerception:
                 heard_texts, out[:, self._o_heard:].reshape(n, self.heard_slots, HEARD_DIM),
                 strict=True)
         ]
+
+
+class ObservationRows(Sequence):
+    """The Dict observations of one ``StatePerception.observe`` call, each agent's dict built
+    on first access (then kept): the same dicts, of the same views, as the eager list."""
+
+    __slots__ = ("_out", "_texts", "_modes", "_built", "_spans", "_size", "_heard_shape")
+
+    def __init__(self, perception: StatePerception, out: np.ndarray,
+                 heard_texts: Sequence[tuple]) -> None:
+        self._out = out
+        self._texts = heard_texts
+        self._modes = perception._team_modes
+        self._built: list[dict | None] = [None] * len(out)
+        p = perception
+        self._spans = (p._o_ball, p._o_players, p._o_mode, p._o_game, p._o_heard)
+        self._size = p.team_size
+        self._heard_shape = (p.heard_slots, HEARD_DIM)
+
+    def __len__(self) -> int:
+        return len(self._built)
+
+    def __getitem__(self, i):  # type: ignore[override]
+        if isinstance(i, slice):
+            return [self[k] for k in range(*i.indices(len(self)))]
+        obs = self._built[i]
+        if obs is None:
+            row = self._out[i]
+            o_ball, o_players, o_mode, o_game, o_heard = self._spans
+            players = row[o_players:o_mode].reshape(-1, PLAYER_DIM)
+            size = self._size
+            obs = self._built[i] = {
+                "self": row[:SELF_DIM], "ball": row[o_ball:o_players],
+                "teammates": players[:size], "opponents": players[size:],
+                "play_mode": self._modes[i], "game": row[o_game:o_heard],
+                "heard_text": self._texts[i],
+                "heard": row[o_heard:].reshape(self._heard_shape)}
+        return obs

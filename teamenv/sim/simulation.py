@@ -281,10 +281,11 @@ class Simulation:
     def fallen(self) -> np.ndarray:
         return np.asarray(self.bodies.fallen, dtype=float)
 
-    def observations(self, flat: bool = False) -> list:
+    def observations(self, flat: bool = False, lazy: bool = False) -> Sequence:
         """Every agent's observation (player order): Dict form, or flat rows when ``flat``.
         In vision mode each call is a new look (noise drawn anew): use
-        ``observation_forms()`` for both forms of one look."""
+        ``observation_forms()`` for both forms of one look. ``lazy`` (state mode, Dict form):
+        a sequence whose dicts are built on first access (``perception.ObservationRows``)."""
         if self.vision is not None:
             dicts, rows = self.observation_forms(dicts=not flat, flat=flat)
             return rows if flat else dicts
@@ -293,7 +294,7 @@ class Simulation:
         out = self.perception.observe(
             self.world.player_poses(), self.world.player_velocities(), self.world.ball_state(),
             self.fallen(), ref.mode, ref.time_s, ref.half, ref.score, ref.attack_sign,
-            self._heard_info, self._heard_texts, flat=flat)
+            self._heard_info, self._heard_texts, flat=flat, lazy=lazy)
         self.phase_s["perception"] += self._clock() - t0
         return out
 

@@ -89,6 +89,11 @@ class World:
             return
         self._batch = buf
         self._batch_set = _batch.Buffer()
+        # Velocities written each cycle: the players' rows, then the ball's (read from the
+        # ball itself, so it keeps its own). The Buffer points at this array's memory.
+        self._vel_values = np.zeros((len(ids), 3))
+        self._batch_set.set_float_buf(self._vel_values)
+        self._players_and_ball = len(ids) == len(expected)
         self._read_fields = fields.POSITION | fields.ANGLE | fields.VELOCITY | \
             fields.ANGULAR_VELOCITY
         self._vel_fields = fields.VELOCITY | fields.ANGULAR_VELOCITY
@@ -227,14 +232,24 @@ class World:
                 body.velocity = (vx, vy)
                 body.angular_velocity = omega
             return
+        if self._players_and_ball:
+            # Every body of the space is written: the players' rows, then the ball's own.
+            values, n = self._vel_values, self.n_players
+            values[:n] = world_velocity
+            ball = self.ball
+            values[n, :2] = ball.velocity
+            values[n, 2] = ball.angular_velocity
+            _batch.set_space_bodies(self.space, self._vel_fields, self._batch_set)
+            return
         # Every body of the space is written: read them, replace the players' rows.
         buf = self._batch
         buf.clear()
         _batch.get_space_bodies(self.space, self._vel_fields, buf)
         values = np.frombuffer(buf.float_buf(), dtype=float).reshape(-1, 3).copy()
         values[:self.n_players] = world_velocity
-        self._batch_set.set_float_buf(values)
-        _batch.set_space_bodies(self.space, self._vel_fields, self._batch_set)
+        setter = _batch.Buffer()
+        setter.set_float_buf(values)
+        _batch.set_space_bodies(self.space, self._vel_fields, setter)
 
     def _roll_ball(self, dt: float) -> None:
         vx, vy = self.ball.velocity
