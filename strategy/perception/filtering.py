@@ -295,6 +295,23 @@ def _sklearn_dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.floa
     return np.asarray(model.labels_, dtype=np.int64)
 
 
+@lru_cache(maxsize=64)
+def _pair_table(size: int) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    """The pairs ``i < j`` of ``size`` points, ordered by ``j`` then ``i``, so that the pairs
+    of the first ``c`` points are the first ``c (c - 1) / 2`` (read-only, cached)."""
+    j, i = np.triu_indices(size, 1)
+    i = i.astype(np.intp)
+    j = j.astype(np.intp)
+    # triu_indices gives (row, col), row < col, row-major; as (col, row) with col < row
+    # swapped: pairs (i, j) with i > j ... order by the larger index, then the smaller
+    big, small = np.maximum(i, j), np.minimum(i, j)
+    order = np.lexsort((small, big))
+    small, big = small[order], big[order]
+    small.setflags(write=False)
+    big.setflags(write=False)
+    return small, big
+
+
 def _exact_dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float64],
                          eps: float, min_samples: int,
                          groups: NDArray[np.int64] | None = None) -> NDArray[np.int64]:
@@ -307,65 +324,90 @@ def _exact_dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float6
     the sum is exact in any order); clusters are the connected components of the core
     points, numbered in the order of their first point; a non-core point within reach of
     core points joins the lowest-numbered of their clusters (the first to reach it), else
-    it is noise. Within a group the points are compared all against all (groups are tiny:
-    one object's window), padded to the largest group."""
+    it is noise. Within a group every pair of points is compared (groups are small: one
+    object's window), as one flat array of pairs (small arrays: no page faults)."""
     pts = np.asarray(points, dtype=np.float64)
     n = len(pts)
     if n == 0:
         return np.zeros(0, dtype=np.int64)
     if pts.ndim == 1:
         pts = pts[:, None]
+    order = None
     if groups is None:
-        order = np.arange(n)
         starts = np.zeros(1, dtype=np.intp)
+        counts = np.full(1, n, dtype=np.intp)
     else:
-        order = np.argsort(np.asarray(groups), kind="stable")
-        g_sorted = np.asarray(groups)[order]
-        starts = np.flatnonzero(np.r_[True, g_sorted[1:] != g_sorted[:-1]])
-    counts = np.diff(np.r_[starts, n])
-    n_groups, size = len(starts), int(counts.max())
-    group = np.repeat(np.arange(n_groups), counts)
-    slot = np.arange(n) - np.repeat(starts, counts)
-    valid = np.zeros((n_groups, size), dtype=bool)
-    valid[group, slot] = True
-    rdist = np.zeros((n_groups, size, size))
-    coords = pts[order]
+        g = np.asarray(groups)
+        if len(g) > 1 and not bool((g[1:] >= g[:-1]).all()):
+            order = np.argsort(g, kind="stable")
+            g = g[order]
+            pts = pts[order]
+        starts = np.flatnonzero(np.r_[True, g[1:] != g[:-1]])
+        counts = np.diff(np.r_[starts, n])
+    w = np.asarray(weights, dtype=np.float64)
+    if order is not None:
+        w = w[order]
+    pi, pj = _pair_table(int(counts.max()))
+    if len(counts) == 1:
+        m = n * (n - 1) // 2
+        a, b = pi[:m], pj[:m]
+    else:  # group g: the first counts[g] (counts[g] - 1) / 2 pairs of the table
+        per = counts * (counts - 1) // 2
+        total = int(per.sum())
+        offset = np.repeat(np.cumsum(per) - per, per)
+        k = np.arange(total) - offset
+        first = np.repeat(starts, per)
+        a, b = first + pi[k], first + pj[k]
+    rd = np.zeros(len(a))
     for j in range(pts.shape[1]):
-        c = np.zeros((n_groups, size))
-        c[group, slot] = coords[:, j]
-        diff = c[:, :, None] - c[:, None, :]
-        rdist += diff * diff
-    near = (rdist <= eps * eps) & valid[:, :, None] & valid[:, None, :]
-    w = np.zeros((n_groups, size))
-    w[group, slot] = weights[order]
-    core = (near * w[:, None, :]).sum(axis=2) >= min_samples
-    core &= valid
-    # components of the core points: every core point takes the smallest sorted position
-    # among its core neighbours until nothing changes (the component's first point)
+        c = pts[:, j]
+        d = c[a] - c[b]
+        rd += d * d
+    near = rd <= eps * eps
+    a, b = a[near], b[near]
+    if bool((w == 1.0).all()):
+        weight = 1 + np.bincount(a, minlength=n) + np.bincount(b, minlength=n)
+    else:
+        weight = w + np.bincount(a, w[b], n) + np.bincount(b, w[a], n)
+    core = weight >= min_samples
+    # components of the core points: each takes the smallest index among its core
+    # neighbours until nothing changes (the component's first point); the links of each
+    # core point, both ways, sorted by it, so one reduceat takes every minimum
     big = n
-    position = np.full((n_groups, size), big, dtype=np.int64)
-    position[group, slot] = np.arange(n)
-    links = near & core[:, :, None] & core[:, None, :]
-    root = np.where(core, position, big)
-    while True:
-        nxt = np.where(links, root[:, None, :], big).min(axis=2)
-        if np.array_equal(nxt, root):
-            break
-        root = nxt
+    root = np.where(core, np.arange(n), big)
+    linked = core[a] & core[b]
+    if linked.any():
+        src = np.concatenate((a[linked], b[linked]))
+        dst = np.concatenate((b[linked], a[linked]))
+        by_src = np.argsort(src, kind="stable")
+        src, dst = src[by_src], dst[by_src]
+        heads = np.flatnonzero(np.r_[True, src[1:] != src[:-1]])
+        nodes = src[heads]
+        while True:
+            low = np.minimum(root[nodes], np.minimum.reduceat(root[dst], heads))
+            if np.array_equal(low, root[nodes]):
+                break
+            root[nodes] = low
     # a border point: the first cluster among its core neighbours (clusters are numbered
     # in the order of their first point, so the smallest root)
-    reach = np.where(near & core[:, None, :], root[:, None, :], big).min(axis=2)
-    root = np.where(core, root, reach)[group, slot]          # (n,) in sorted order
-    labels_sorted = np.full(n, -1, dtype=np.int64)
-    member = root < big
+    label_root = root.copy()
+    to_a = core[b] & ~core[a]
+    np.minimum.at(label_root, a[to_a], root[b[to_a]])
+    to_b = core[a] & ~core[b]
+    np.minimum.at(label_root, b[to_b], root[a[to_b]])
+    labels = np.full(n, -1, dtype=np.int64)
+    member = label_root < big
     if member.any():
-        roots = np.unique(root[member])                      # sorted positions of first points
-        first = order[roots]                                 # their original indices
-        number = np.empty(len(roots), dtype=np.int64)
-        number[np.argsort(first, kind="stable")] = np.arange(len(roots))
-        labels_sorted[member] = number[np.searchsorted(roots, root[member])]
-    labels = np.empty(n, dtype=np.int64)
-    labels[order] = labels_sorted
+        roots = np.unique(label_root[member])        # (sorted) positions of first points
+        number = np.arange(len(roots), dtype=np.int64)
+        if order is not None:  # number clusters by their first point's original index
+            number = np.empty(len(roots), dtype=np.int64)
+            number[np.argsort(order[roots], kind="stable")] = np.arange(len(roots))
+        labels[member] = number[np.searchsorted(roots, label_root[member])]
+    if order is not None:
+        out = np.empty(n, dtype=np.int64)
+        out[order] = labels
+        labels = out
     return labels
 
 

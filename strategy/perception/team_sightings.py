@@ -5,16 +5,20 @@ scikit-learn's DBSCAN costs ~0.5 ms per call, almost all of it fixed overhead, a
 agent and per object would take most of a 20 ms cycle. ``TeamSightings`` keeps every agent's
 windows as separate objects of one ``MultiObjectWindow`` (object = agent * (1 + N) + slot,
 slot 0 the ball, slot 1 + j opponent j), which ``cluster_objects`` keeps apart, so one call
-per vision cycle filters them all; and it clusters every agent's heard ball reports in one
-more call. Agent k's results depend only on agent k's sightings and the reports agent k heard.
+per vision cycle filters them all (``see_many`` adds a whole team's sightings in one go); and
+it clusters every agent's heard ball reports in one more call, from an (agents x senders)
+table of the latest reports, so finding what changed is one array pass, not a loop over
+agents. Agent k's results depend only on agent k's sightings and the reports agent k heard.
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from strategy.perception.ball_belief import BallBelief, BallEstimate, RollModel
+from strategy.perception.ball_belief import BallBelief, BallEstimate, RollModel, _Basis
 from strategy.perception.filtering import (
     FilterParams,
     MultiEstimate,
@@ -37,6 +41,23 @@ class TeamSightings:
         self._own_memory: list = [None] * self.n_agents
         self._estimate: MultiEstimate | None = None
         self._estimate_time = np.nan
+        # the own bases of the last clustering (keyed by its arrays: a new clustering makes
+        # new ones), and the opponents of the last estimate
+        self._own_of: NDArray | None = None
+        self._own_bases: list = [None] * self.n_agents
+        self._opponents_of: MultiEstimate | None = None
+        self._opponents: tuple[NDArray[np.float64], NDArray[np.bool_]] | None = None
+        # heard reports: each agent's latest report per sender (the same as its BallBelief
+        # holds), as arrays: seen-at time (NaN: none), position, the order the sender was
+        # first heard in (BallBelief's dict order), a version per agent
+        self._senders: dict = {}
+        self._heard_t = np.full((self.n_agents, self.n_agents), np.nan)
+        self._heard_xy = np.zeros((self.n_agents, self.n_agents, 2))
+        self._heard_seq = np.zeros((self.n_agents, self.n_agents), dtype=np.int64)
+        self._heard_next = np.zeros(self.n_agents, dtype=np.int64)
+        self._heard_version = np.zeros(self.n_agents, dtype=np.int64)
+        self._heard_key: list = [None] * self.n_agents
+        self._heard_basis: list = [None] * self.n_agents
 
     def clear_ball(self) -> None:
         """Every agent forgets the ball (the referee moved it: a kick-off or set play)."""
@@ -45,6 +66,10 @@ class TeamSightings:
         self._own_memory = [None] * self.n_agents
         self.window.clear_objects(np.arange(self.n_agents) * self.stride)
         self._estimate = None
+        self._own_of = None
+        self._heard_t.fill(np.nan)
+        self._heard_next.fill(0)
+        self._heard_version += 1
 
     # -- input ------------------------------------------------------------------------------
     def see(self, time_s: float, agent: int, ball: ArrayLike | None,
@@ -60,10 +85,38 @@ class TeamSightings:
             self.window.add(time_s, agent * self.stride + ids, xy)
             self._estimate = None
 
+    def see_many(self, time_s: float, objects: NDArray[np.int64],
+                 xy: NDArray[np.float64]) -> None:
+        """Several agents' sightings of one vision cycle at once: ``objects`` (distinct)
+        are window rows ``agent * (1 + N) + slot`` (slot 0 the ball, 1 + j opponent j) seen
+        at ``xy`` (team frame); the same as ``see`` for each agent."""
+        if len(objects):
+            self.window.add(time_s, objects, xy)
+            self._estimate = None
+
     def hear(self, time_s: float, agent: int, xy: ArrayLike, age_s: float,
              sender: int) -> None:
         """Agent ``agent`` heard ``sender`` report the ball at ``xy``, seen ``age_s`` ago."""
-        self.balls[agent].hear(time_s, xy, age_s, sender)
+        ball = self.balls[agent]
+        ball.hear(time_s, xy, age_s, sender)  # checks the report; keeps the memory's copy
+        col = self._senders.get(sender)
+        if col is None:
+            col = self._senders[sender] = len(self._senders)
+            if col >= self._heard_t.shape[1]:  # more senders than agents: grow the table
+                grow = self._heard_t.shape[1]
+                self._heard_t = np.pad(self._heard_t, ((0, 0), (0, grow)),
+                                       constant_values=np.nan)
+                self._heard_xy = np.pad(self._heard_xy, ((0, 0), (0, grow), (0, 0)))
+                self._heard_seq = np.pad(self._heard_seq, ((0, 0), (0, grow)))
+        seen_at = time_s - age_s
+        previous = self._heard_t[agent, col]
+        if math.isnan(previous) or seen_at >= previous:  # as BallBelief.hear
+            if math.isnan(previous):
+                self._heard_seq[agent, col] = self._heard_next[agent]
+                self._heard_next[agent] += 1
+            self._heard_t[agent, col] = seen_at
+            self._heard_xy[agent, col] = np.asarray(xy, dtype=np.float64)
+            self._heard_version[agent] += 1
 
     # -- output -----------------------------------------------------------------------------
     def estimate(self, now_s: float) -> MultiEstimate:
@@ -76,49 +129,81 @@ class TeamSightings:
     def opponents(self, now_s: float, agent: int) -> tuple[NDArray[np.float64],
                                                             NDArray[np.bool_]]:
         """Agent ``agent``'s opponents: (N, 2) positions (zeros where unknown), (N,) known."""
+        positions, known = self.all_opponents(now_s)
+        return positions[agent].copy(), known[agent].copy()
+
+    def all_opponents(self, now_s: float) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+        """Every agent's opponents: (A, N, 2) positions (zeros where unknown), (A, N) known
+        (row k is agent k's own; new arrays whenever the estimate is new)."""
         est = self.estimate(now_s)
-        rows = slice(agent * self.stride + 1, (agent + 1) * self.stride)
-        known = est.known[rows].copy()
-        return np.where(known[:, None], est.latest_positions()[rows], 0.0), known
+        if self._opponents_of is not est:
+            shape = (self.n_agents, self.stride)
+            known = est.known.reshape(shape)[:, 1:].copy()
+            latest = est.latest_positions().reshape(shape + (2,))[:, 1:]
+            positions = np.where(known[:, :, None], latest, 0.0)
+            self._opponents_of, self._opponents = est, (positions, known)
+        assert self._opponents is not None
+        return self._opponents
 
     def ball_beliefs(self, now_s: float) -> list[BallEstimate]:
         """Every agent's ball belief at ``now_s`` (own sightings, else heard reports)."""
         est = self.estimate(now_s)
         heard = self._heard_bases(now_s)
-        out = []
-        for k, ball in enumerate(self.balls):
-            own = est.get(k * self.stride)
-            if own is None:  # out of date: the estimate at the newest sighting remembered
-                own = self._own_memory[k]
-            else:
-                self._own_memory[k] = own
-            out.append(ball.choose(now_s, ball.own_basis(own), heard[k]))
-        return out
+        if self._own_of is not est.known:  # a new clustering: the own bases again
+            for k, ball in enumerate(self.balls):
+                own = est.get(k * self.stride)
+                if own is None:  # out of date: the estimate at the newest sighting remembered
+                    own = self._own_memory[k]
+                else:
+                    self._own_memory[k] = own
+                self._own_bases[k] = ball.own_basis(own)
+            self._own_of = est.known
+        return [ball.choose(now_s, own, h)
+                for ball, own, h in zip(self.balls, self._own_bases, heard, strict=True)]
 
     def _heard_bases(self, now_s: float) -> list:
-        """Each agent's heard-report cluster, the uncached ones in one DBSCAN call."""
+        """Each agent's heard-report cluster, the changed ones in one clustering call (the
+        same as ``BallBelief``'s own: its reports, freshest per sender, within
+        ``heard_max_age_s`` of ``now_s``, ordered by time then by when the sender was first
+        heard)."""
         p = self.params
+        t = self._heard_t
+        with np.errstate(invalid="ignore"):  # NaN: no report
+            fresh = (t >= now_s - p.heard_max_age_s) & (t <= now_s)
+        any_fresh = fresh.any(axis=1).tolist()
+        versions = self._heard_version.tolist()
         bases: list = [None] * self.n_agents
-        todo, times, xy, objects, counts = [], [], [], [], []
-        for k, ball in enumerate(self.balls):
-            key, t, pts = ball.heard_inputs(now_s)
-            found, basis = ball.heard_cached(key)
-            if found:
-                bases[k] = basis
-            elif len(t) == 0:
-                bases[k] = ball.heard_result(key, None, 0, 0)
+        todo = []
+        for k in range(self.n_agents):
+            if not any_fresh[k]:
+                self._heard_key[k] = None
+                continue
+            key = (versions[k], fresh[k].tobytes())
+            if key == self._heard_key[k]:
+                bases[k] = self._heard_basis[k]
             else:
-                todo.append((k, key, len(todo)))
-                times.append(t)
-                xy.append(pts)
-                objects.append(np.full(len(t), len(todo) - 1, dtype=np.int64))
-                counts.append(len(t))
+                self._heard_key[k] = key
+                todo.append(k)
         if todo:
-            stats = cluster_objects(np.concatenate(times), np.concatenate(xy),
-                                    np.ones(sum(counts)), np.concatenate(objects), len(todo),
-                                    p.heard_eps_m, 1, p.recency_half_life_s, np.inf)
-            for (k, key, row), count in zip(todo, counts, strict=True):
-                bases[k] = self.balls[k].heard_result(key, stats, row, count)
+            rows = np.asarray(todo)
+            sub = fresh[rows]
+            r, c = np.nonzero(sub)
+            src = rows[r]
+            times = t[src, c]
+            order = np.lexsort((self._heard_seq[src, c], times, r))
+            r, times = r[order], times[order]
+            xy = self._heard_xy[src[order], c[order]]
+            counts = np.bincount(r, minlength=len(todo)).tolist()
+            stats = cluster_objects(times, xy, np.ones(len(times)), r.astype(np.int64),
+                                    len(todo), p.heard_eps_m, 1, p.recency_half_life_s,
+                                    np.inf)
+            n_members = stats["n"].tolist()
+            newest = stats["newest_s"].tolist()
+            for row, k in enumerate(todo):
+                n = n_members[row]
+                bases[k] = self._heard_basis[k] = _Basis(
+                    stats["positions"][row].copy(), None, newest[row], "heard",
+                    n / counts[row], n)
         for k, ball in enumerate(self.balls):
             if bases[k] is None and ball.has_heard():
                 bases[k] = ball.heard_memory(now_s)  # all reports out of date: the last one

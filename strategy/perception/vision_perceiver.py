@@ -18,6 +18,7 @@ mode builds, so everything above perception is the same code in both modes.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -25,7 +26,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from strategy.geometry import BallRoll, body_points_to_team, to_team
+from strategy.geometry import BallRoll, to_team
 from strategy.perception.ball_belief import BallEstimate
 from strategy.perception.filtering import FilterParams
 from strategy.perception.localization import BatchLocalizer, LocalizationParams
@@ -37,6 +38,7 @@ from teamenv.errors import ConfigError
 from teamenv.landmarks import from_polar
 from teamenv.teams import TeamContext
 
+_MODES = {int(m): m for m in PlayMode}
 KICKOFF_MODES = {"BeforeKickOff", "KickOff_Left", "KickOff_Right", "Goal_Left", "Goal_Right"}
 
 
@@ -74,6 +76,7 @@ class VisionPerceiver:
         self.field = context.field
         self.agents = tuple(context.agents)
         self.index = {agent: k for k, agent in enumerate(self.agents)}
+        self._all = list(range(len(self.agents)))
         self.n = context.team_size
         self.cycle_s = context.cycle_s
         self.communicate = communicate
@@ -98,6 +101,7 @@ class VisionPerceiver:
         self.mate_fallen = np.zeros((n, n), dtype=bool)
         self.mate_time = np.full((n, n), -np.inf)
         self.reports: list[list[TeamReport]] = [[] for _ in range(n)]
+        self._decoded: dict[str, TeamReport | None] = {}
         self.cycle = 0
 
     # -- what the team told us it did -------------------------------------------------------
@@ -108,18 +112,22 @@ class VisionPerceiver:
 
     # -- the cycle --------------------------------------------------------------------------
     def update(self, observations: Mapping[str, Mapping[str, Any]]) -> dict[str, WorldModel]:
-        """Each agent's belief this cycle, from its own observation and what it heard."""
+        """Each agent's belief this cycle, from its own observation and what it heard.
+
+        All agents in batched passes (localization, placing sightings, the windows, the
+        heard reports), but every array row is one agent's own: agent k's belief depends
+        only on agent k's observations and what agent k heard."""
         now = self.cycle * self.cycle_s
         self.cycle += 1
         index = [self.index[a] for a in observations]
         obs = list(observations.values())
         odometry = np.array([o["odometry"] for o in obs], dtype=np.float64)
         gyro = np.array([o["gyro"][0] for o in obs], dtype=np.float64)
-        fresh = np.array([o["vision"][0] > 0.5 for o in obs])
-        self.localizer.predict(index, odometry, gyro)
-        if fresh.any():
-            rows = [k for k, f in zip(index, fresh, strict=True) if f]
-            seen = [o for o, f in zip(obs, fresh, strict=True) if f]
+        fresh = [bool(o["vision"][0] > 0.5) for o in obs]
+        self.localizer.predict(None if index == self._all else index, odometry, gyro)
+        rows = [k for k, f in zip(index, fresh, strict=True) if f]
+        seen = [o for o, f in zip(obs, fresh, strict=True) if f]
+        if rows:
             self.localizer.correct(rows, np.stack([o["landmarks"] for o in seen]),
                                    np.stack([o["lines"] for o in seen]))
         estimate = self.localizer.estimate()
@@ -128,39 +136,82 @@ class VisionPerceiver:
         if mode != self.play_mode and mode != int(PlayMode.PlayOn):
             self.sightings.clear_ball()  # the referee placed the ball: old sightings mislead
         self.play_mode = mode
-        for k, o, is_fresh in zip(index, obs, fresh, strict=True):
-            if is_fresh:
-                self._sightings(k, o, poses[k], now)
-            if self.communicate:
-                self._hear(k, o, now)
+        if rows:
+            self._see(rows, seen, poses, now)
+        texts = [heard_texts(o) for o in obs]
+        if self.communicate:
+            for k, heard in zip(index, texts, strict=True):
+                self._hear(k, heard, now)
         balls = self.sightings.ball_beliefs(now)
-        return {agent: self._world_model(k, o, poses[k], spreads[k], balls[k], now)
-                for agent, k, o in zip(observations, index, obs, strict=True)}
+        opponents, opponents_known = self.sightings.all_opponents(now)
+        mates = self.mate_xy.copy()
+        present = now - self.mate_time <= self.params.teammate_max_age_s
+        fallen = self.mate_fallen.copy()
+        return {agent: self._world_model(k, o, poses[k], spreads[k], balls[k], mates[k],
+                                         present[k], fallen[k], opponents[k],
+                                         opponents_known[k], heard)
+                for agent, k, o, heard in zip(observations, index, obs, texts, strict=True)}
 
-    def _sightings(self, k: int, o: Mapping[str, Any], pose: NDArray[np.float64],
-                   now: float) -> None:
-        ball = o["ball"]
-        seen_ball = self._place(ball[None, 1:4], pose)[0] if ball[0] > 0.5 else None
-        opponents = o["opponents"]
-        seen = np.flatnonzero(opponents[:, 0] > 0.5)
-        self.sightings.see(now, k, seen_ball, seen, self._place(opponents[seen, 1:4], pose))
-        mates = o["teammates"]
-        seen = np.flatnonzero(mates[:, 0] > 0.5)
-        if seen.size:
-            xy = self._place(mates[seen, 1:4], pose)
-            older = self.mate_time[k, seen] < now - 0.5  # a said pose beats a sighting
-            self.mate_xy[k, seen[older]] = xy[older]
-            self.mate_time[k, seen[older]] = now
+    def _see(self, rows: list[int], seen: list[Mapping[str, Any]], poses: NDArray[np.float64],
+             now: float) -> None:
+        """The ball, opponents and teammates that agents ``rows`` saw this vision cycle, each
+        placed from the agent's own pose (one pass for all of them)."""
+        agent = np.asarray(rows, dtype=np.intp)
+        ball = np.stack([o["ball"] for o in seen])
+        opponents = np.stack([o["opponents"] for o in seen])
+        mates = np.stack([o["teammates"] for o in seen])
+        b_row = np.flatnonzero(ball[:, 0] > 0.5)
+        o_row, o_id = np.nonzero(opponents[:, :, 0] > 0.5)
+        m_row, m_id = np.nonzero(mates[:, :, 0] > 0.5)
+        polar = np.concatenate((ball[b_row, 1:4], opponents[o_row, o_id, 1:4],
+                                mates[m_row, m_id, 1:4])).astype(np.float64)
+        if not len(polar):
+            return
+        owner = agent[np.concatenate((b_row, o_row, m_row))]
+        xy = self._place(polar, poses, owner)
+        n_objects = len(b_row) + len(o_row)
+        ids = np.concatenate((agent[b_row] * self.sightings.stride,
+                              agent[o_row] * self.sightings.stride + 1 + o_id))
+        self.sightings.see_many(now, ids, xy[:n_objects])
+        if len(m_row):
+            k, j = agent[m_row], m_id
+            older = self.mate_time[k, j] < now - 0.5  # a said pose beats a sighting
+            self.mate_xy[k[older], j[older]] = xy[n_objects:][older]
+            self.mate_time[k[older], j[older]] = now
 
-    def _place(self, polar: NDArray[np.floating], pose: NDArray[np.float64]) -> NDArray:
-        """Team-frame (M, 2) ground points of polar sightings seen from ``pose``."""
-        body = from_polar(np.asarray(polar, dtype=np.float64), self.camera_height)
-        return body_points_to_team(body, pose[0], pose[1], pose[2])
+    def _place(self, polar: NDArray[np.float64], poses: NDArray[np.float64],
+               owner: NDArray[np.intp]) -> NDArray[np.float64]:
+        """Team-frame (M, 2) ground points of polar sightings (M, 3), sighting i seen from
+        ``poses[owner[i]]`` (``body_points_to_team`` per point, its heading's cosine and sine
+        by ``math`` as there)."""
+        body = from_polar(polar, self.camera_height)
+        c = np.array([math.cos(h) for h in poses[:, 2].tolist()])[owner]
+        s = np.array([math.sin(h) for h in poses[:, 2].tolist()])[owner]
+        f, left = body[:, 0], body[:, 1]
+        x, y = poses[owner, 0], poses[owner, 1]
+        return np.column_stack((x + c * f - s * left, y + s * f + c * left))
 
-    def _hear(self, k: int, o: Mapping[str, Any], now: float) -> None:
+    def _decode(self, text: str) -> TeamReport | None:
+        """``decode_team_report`` of ``text``, once per text (every listener hears the same
+        texts; the report's arrays are read-only)."""
+        try:
+            return self._decoded[text]
+        except KeyError:
+            pass
+        report = decode_team_report(self.schema, text)
+        if report is not None:
+            for a in (report.roles, report.position, report.ball):
+                if a is not None:
+                    a.setflags(write=False)
+        if len(self._decoded) >= 256:
+            self._decoded.clear()
+        self._decoded[text] = report
+        return report
+
+    def _hear(self, k: int, texts: list[str], now: float) -> None:
         reports = []
-        for text in heard_texts(o):
-            report = decode_team_report(self.schema, text)
+        for text in texts:
+            report = self._decode(text)
             if report is None or report.sender == k or not 0 <= report.sender < self.n:
                 continue
             j = report.sender
@@ -174,8 +225,13 @@ class VisionPerceiver:
         self.reports[k] = reports
 
     def _world_model(self, k: int, o: Mapping[str, Any], pose: NDArray[np.float64],
-                     spread: float, ball: BallEstimate, now: float) -> WorldModel:
-        mode = PlayMode(int(o["play_mode"]))
+                     spread: float, ball: BallEstimate, mates: NDArray[np.float64],
+                     present: NDArray[np.bool_], fallen: NDArray[np.bool_],
+                     opponents: NDArray[np.float64], opponents_known: NDArray[np.bool_],
+                     heard: list[str]) -> WorldModel:
+        """Agent ``k``'s world model; ``mates``, ``present``, ``fallen`` are its rows of
+        this cycle's copies (written into), the opponents its rows of this estimate's."""
+        mode = _MODES.get(int(o["play_mode"])) or PlayMode(int(o["play_mode"]))
         age = ball.age_s
         if ball.position is not None:
             ball_xy = np.array(ball.position, dtype=np.float64)
@@ -185,19 +241,14 @@ class VisionPerceiver:
             ball_xy = pose[:2].copy()
         ball_v = np.array(ball.velocity, dtype=np.float64) if ball.velocity is not None else \
             np.zeros(2)
-        mates = self.mate_xy[k].copy()
-        present = now - self.mate_time[k] <= self.params.teammate_max_age_s
         mates[k] = pose[:2]
         present[k] = True
-        fallen = self.mate_fallen[k].copy()
         fallen[k] = bool(o["body"][0] > 0.5)
-        opponents, opp_present = self.sightings.opponents(now, k)
         odo = o["odometry"]
         velocity = np.array(to_team(odo[0], odo[1], pose[2])) / self.cycle_s
         game = o["game"]
         return WorldModel(
             k, pose[:2].copy(), float(pose[2]), velocity, fallen[k], ball_xy, ball_v, mates,
-            present, fallen, np.asarray(opponents, dtype=np.float64),
-            np.asarray(opp_present, dtype=bool), np.zeros(self.n, dtype=bool), mode,
-            float(game[0]), int(game[1]), (int(game[2]), int(game[3])), tuple(heard_texts(o)),
+            present, fallen, opponents, opponents_known, np.zeros(self.n, dtype=bool), mode,
+            float(game[0]), int(game[1]), (int(game[2]), int(game[3])), tuple(heard),
             self.field, self.roll, b"", float(age), float(spread))
