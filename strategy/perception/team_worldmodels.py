@@ -83,6 +83,7 @@ def team_world_models(observations: Mapping[str, Mapping[str, Any]],
         np.array(modes, dtype="<u2").view(np.uint8).reshape(agents_n, 2)), axis=1)
     headings, vx, vy = heading.tolist(), selfs[:, 3].tolist(), selfs[:, 4].tolist()
     fallen_list = fallen_self.tolist()
+    heard = _heard(observations, agents)
     roll = roll or BallRoll()
     rests: dict[bytes, Any] = {}
     out = {}
@@ -101,7 +102,8 @@ def team_world_models(observations: Mapping[str, Mapping[str, Any]],
             opponents_present=opponents_present[a], opponents_fallen=opponents_fallen[a],
             play_mode=_MODES.get(mode) or PlayMode(mode), time_s=float(game[0]),
             half=int(game[1]), score=(int(game[2]), int(game[3])),
-            heard=tuple(heard_texts(obs)), field=field, roll=roll,
+            heard=heard[a] if heard is not None else tuple(heard_texts(obs)), field=field,
+            roll=roll,
             belief_key=keys[a].tobytes(), ball_age_s=0.0, pose_spread_m=0.0,
             _players=rows[:count])
         if ball_rest:  # the same pure function of the same ball: computed once per team
@@ -133,6 +135,22 @@ def _stack(observations: Mapping[str, Mapping[str, Any]], agents: list[str]):
             or opps.shape[1] != n or opps.shape[2] != mates.shape[2]):
         return None
     return selfs, balls, np.concatenate((mates, opps), axis=1), n
+
+
+def _heard(observations: Mapping[str, Mapping[str, Any]],
+           agents: list[str]) -> list[tuple[str, ...]] | None:
+    """Per agent, ``heard_texts`` of its observation, the slot tests in one pass (None when
+    the slots are not all of one shape: then one by one)."""
+    try:
+        info = np.array([observations[a]["heard"] for a in agents], dtype=np.float64)
+        texts = [observations[a]["heard_text"] for a in agents]
+    except (KeyError, ValueError, TypeError):
+        return None
+    if info.ndim != 3 or info.shape[2] < 3:
+        return None
+    ok = ((info[:, :, 0] > 0.5) & ((info[:, :, 1] > 0.5) | (info[:, :, 2] > 0.5))).tolist()
+    return [tuple(t for t, good in zip(said, fine) if t and good)
+            for said, fine in zip(texts, ok)]
 
 
 def _one_by_one(observations, index, field, roll, resolution) -> dict[str, WorldModel]:
