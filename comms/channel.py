@@ -72,9 +72,11 @@ class Delivery:
     heard, sorted by listener and, within a listener, in `heard[i]` order: `listener`,
     `speaker` (agent index) int arrays, `text` an object array of str, `direction` a float
     array, `is_self` and `teammate` bool arrays. `heard` is built from exactly these values.
+    `grouped`: True when each listener's pairs come as its own message, then teammates',
+    then opponents' (`simspark`-like profiles; `mj` orders them by loudness).
     """
 
-    __slots__ = ("_heard", "_dropped", "_pending", "pairs", "_n")
+    __slots__ = ("_heard", "_dropped", "_pending", "pairs", "_n", "grouped")
 
     def __init__(
         self,
@@ -83,8 +85,10 @@ class Delivery:
         pending: Any = None,
         pairs: tuple | None = None,
         n_agents: int = 0,
+        grouped: bool = False,
     ) -> None:
         self._heard = heard
+        self.grouped = grouped
         self._dropped = dropped if dropped is not None else []
         self._pending = pending
         self.pairs = pairs
@@ -387,8 +391,9 @@ class Channel:
                 f"positions must be ({n}, 2) and headings ({n},), got {pos.shape} and {hd.shape}"
             )
         spk = np.asarray(speakers, dtype=np.intp)
-        rel = pos[spk][:, None, :] - pos[None, :, :]  # listener -> speaker, (S, N, 2)
-        dist = np.hypot(rel[..., 0], rel[..., 1])
+        x, y = pos[:, 0], pos[:, 1]
+        rel = (x[spk][:, None] - x, y[spk][:, None] - y)  # listener -> speaker, (S, N) each
+        dist = np.hypot(*rel)
         is_self = self._is_self[spk]  # (S, N) rows of the speakers
         same = self._same[spk]
         in_range = dist <= prof.hearing_range_m
@@ -444,7 +449,6 @@ class Channel:
                 by_class = ok
                 if over.any():
                     chunks.append((over[0] | over[1], REASON_CAPACITY))
-            heard = by_class[0] | by_class[1]
             # Per listener: own message, then teammates', then opponents', each in arrival
             # order: the transposed (3S, N) stack of those masks lists them in that order.
             blocks = np.concatenate(
@@ -457,13 +461,13 @@ class Channel:
                 if counts.max() > prof.max_heard:
                     within = np.arange(li.size) - (np.cumsum(counts) - counts)[li]
                     keep = within < prof.max_heard
-                    over = np.zeros_like(heard)
+                    over = np.zeros_like(is_self)
                     over[si[~keep], li[~keep]] = True
                     chunks.append((over, REASON_MAX_HEARD))
                     li = li[keep]
                     si = si[keep]
             return self._assemble(
-                speakers, texts, illegal, spk, chunks, rel, hd, is_self, same, si, li
+                speakers, texts, illegal, spk, chunks, rel, hd, is_self, same, si, li, True
             )
         if prof.self_echo:
             heard = heard | is_self
@@ -492,15 +496,16 @@ class Channel:
         illegal: list[Drop],
         spk: np.ndarray,
         chunks: list,
-        rel: np.ndarray,
+        rel: tuple[np.ndarray, np.ndarray],
         hd: np.ndarray,
         is_self: np.ndarray,
         same: np.ndarray,
         si: np.ndarray,
         li: np.ndarray,
+        grouped: bool = False,
     ) -> Delivery:
         """Build the Heard lists from (speaker slot, listener) pairs sorted per listener."""
-        ang = np.arctan2(rel[si, li, 1], rel[si, li, 0]) - hd[li]
+        ang = np.arctan2(rel[1][si, li], rel[0][si, li]) - hd[li]
         ang = (ang + math.pi) % _TWO_PI - math.pi
         q = self.profile.direction_quantum_deg
         if q > 0.0:
@@ -515,7 +520,7 @@ class Channel:
             pair_self,
             same[si, li],
         )
-        return Delivery(None, illegal, (spk, chunks), pairs, self.n_agents)
+        return Delivery(None, illegal, (spk, chunks), pairs, self.n_agents, grouped)
 
 
 def make_channel(

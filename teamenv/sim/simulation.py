@@ -257,23 +257,30 @@ class Simulation:
                 return
             counts = np.bincount(listener, minlength=self.n)
         total = len(listener)
-        # All (listener, message) pairs at once: sort by listener, then slot class (stable).
-        rank = np.where(is_self_a, 0, np.where(mate_a, 1, 2))
-        order = np.lexsort((rank, listener))
-        listener = listener[order]
+        # (listener, message) pairs come sorted by listener: slot = rank within a listener.
         start = np.cumsum(counts) - counts
         slot = np.arange(total) - start[listener]
-        keep = order[slot < self.heard_slots]
-        if keep.size < total:
-            listener = listener[slot < self.heard_slots]
-            slot = slot[slot < self.heard_slots]
-        info = self._heard_info
-        info[listener, slot, 0] = 1.0
-        info[listener, slot, 1] = is_self_a[keep]
-        info[listener, slot, 2] = mate_a[keep]
-        info[listener, slot, 3] = direction_a[keep]
+        if pairs is None or not delivery.grouped:
+            # Sort each listener's pairs by slot class (self, teammate, opponent), stable,
+            # and keep the first heard_slots (the channel's own order need not be that).
+            rank = np.where(is_self_a, 0, np.where(mate_a, 1, 2))
+            order = np.lexsort((rank, listener))
+            fits = slot < self.heard_slots
+            keep = order[fits]
+            if keep.size < total:
+                listener = listener[fits]
+                slot = slot[fits]
+            is_self_a, mate_a = is_self_a[keep], mate_a[keep]
+            direction_a, texts_a = direction_a[keep], texts_a[keep]
+        # else: already in slot order, at most max_heard (= heard_slots) per listener
+        values = np.empty((len(listener), HEARD_DIM))
+        values[:, 0] = 1.0
+        values[:, 1] = is_self_a
+        values[:, 2] = mate_a
+        values[:, 3] = direction_a
+        self._heard_info[listener, slot] = values
         table = np.full((self.n, self.heard_slots), "", dtype=object)
-        table[listener, slot] = texts_a[keep]
+        table[listener, slot] = texts_a
         self._heard_texts = list(map(tuple, table.tolist()))
         self._heard_any = True
 
