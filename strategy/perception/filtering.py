@@ -370,24 +370,32 @@ def _exact_dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float6
     else:
         weight = w + np.bincount(a, w[b], n) + np.bincount(b, w[a], n)
     core = weight >= min_samples
-    # components of the core points: each takes the smallest index among its core
-    # neighbours until nothing changes (the component's first point); the links of each
-    # core point, both ways, sorted by it, so one reduceat takes every minimum
+    # components of the core points, each named by its first (smallest) index: every core
+    # point first points to its smallest linked neighbour below it (the pairs come sorted by
+    # their larger index, then the smaller, so that is the first pair of its run), pointers
+    # are followed to the end, and while a linked pair ends in two different roots the larger
+    # root is hooked under the smaller (roots only decrease, so this ends; a root is the
+    # smallest point of its tree, hence of its component)
     big = n
-    root = np.where(core, np.arange(n), big)
     linked = core[a] & core[b]
-    if linked.any():
-        src = np.concatenate((a[linked], b[linked]))
-        dst = np.concatenate((b[linked], a[linked]))
-        by_src = np.argsort(src, kind="stable")
-        src, dst = src[by_src], dst[by_src]
-        heads = np.flatnonzero(np.r_[True, src[1:] != src[:-1]])
-        nodes = src[heads]
+    la, lb = a[linked], b[linked]
+    parent = np.arange(n)
+    if len(lb):
+        heads = np.flatnonzero(np.r_[True, lb[1:] != lb[:-1]])
+        parent[lb[heads]] = la[heads]
         while True:
-            low = np.minimum(root[nodes], np.minimum.reduceat(root[dst], heads))
-            if np.array_equal(low, root[nodes]):
+            while True:
+                jumped = parent[parent]
+                if np.array_equal(jumped, parent):
+                    break
+                parent = jumped
+            ra, rb = parent[la], parent[lb]
+            split = ra != rb
+            if not split.any():
                 break
-            root[nodes] = low
+            np.minimum.at(parent, np.maximum(ra[split], rb[split]),
+                          np.minimum(ra[split], rb[split]))
+    root = np.where(core, parent, big)
     # a border point: the first cluster among its core neighbours (clusters are numbered
     # in the order of their first point, so the smallest root)
     label_root = root.copy()
@@ -398,17 +406,26 @@ def _exact_dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float6
     labels = np.full(n, -1, dtype=np.int64)
     member = label_root < big
     if member.any():
-        roots = np.unique(label_root[member])        # (sorted) positions of first points
-        number = np.arange(len(roots), dtype=np.int64)
-        if order is not None:  # number clusters by their first point's original index
-            number = np.empty(len(roots), dtype=np.int64)
-            number[np.argsort(order[roots], kind="stable")] = np.arange(len(roots))
-        labels[member] = number[np.searchsorted(roots, label_root[member])]
+        roots = np.flatnonzero(root == np.arange(n))  # (sorted) positions of first points
+        number = np.full(n, -1, dtype=np.int64)
+        if order is None:
+            number[roots] = np.arange(len(roots))
+        else:  # number clusters by their first point's original index
+            number[roots[np.argsort(order[roots], kind="stable")]] = np.arange(len(roots))
+        labels[member] = number[label_root[member]]
     if order is not None:
         out = np.empty(n, dtype=np.int64)
         out[order] = labels
         labels = out
     return labels
+
+
+def _runs(keys: NDArray[np.int64]) -> NDArray[np.intp] | None:
+    """The start of each run of equal ``keys`` when they are sorted (non-empty), else None
+    (a per-key maximum or minimum is then one ``reduceat``, exactly ``ufunc.at``'s)."""
+    if len(keys) == 0 or not bool((keys[1:] >= keys[:-1]).all()):
+        return None
+    return np.flatnonzero(np.r_[True, keys[1:] != keys[:-1]])
 
 
 def _recency(age: NDArray[np.float64], half_life: float) -> NDArray[np.float64]:
@@ -467,14 +484,19 @@ def cluster_objects(times: NDArray[np.float64], xy: NDArray[np.float64],
 
     # cluster scores: recency relative to each object's newest sighting
     last_of_object = np.full(n_objects, -np.inf)
-    np.maximum.at(last_of_object, objects, times)
+    runs = _runs(objects)
+    if runs is None:
+        np.maximum.at(last_of_object, objects, times)
+    else:  # sorted by object (the callers' order): one reduceat, the same maxima
+        last_of_object[objects[runs]] = np.maximum.reduceat(times, runs)
     score_w = weights * _recency(last_of_object[objects] - times, half_life)
     members = ~noise
     cl = labels[members]
     n_clusters = int(cl.max()) + 1
     cluster_score = np.bincount(cl, score_w[members], n_clusters)
-    cluster_newest = np.full(n_clusters, -np.inf)
-    np.maximum.at(cluster_newest, cl, times[members])
+    by_cluster = np.argsort(cl, kind="stable")
+    cl_runs = np.flatnonzero(np.r_[True, cl[by_cluster][1:] != cl[by_cluster][:-1]])
+    cluster_newest = np.maximum.reduceat(times[members][by_cluster], cl_runs)
     cluster_object = np.zeros(n_clusters, dtype=np.int64)
     cluster_object[cl] = objects[members]  # one object per cluster (they are kept apart)
     cluster_size = np.bincount(cl, minlength=n_clusters)
@@ -512,7 +534,11 @@ def cluster_objects(times: NDArray[np.float64], xy: NDArray[np.float64],
     s_tp = np.column_stack([np.bincount(k, w * ddt * dp[:, i], len(best_object))
                             for i in (0, 1)])
     oldest = np.full(len(best_object), np.inf)
-    np.minimum.at(oldest, k, dt)
+    k_runs = _runs(k)
+    if k_runs is None:
+        np.minimum.at(oldest, k, dt)
+    else:
+        oldest[k[k_runs]] = np.minimum.reduceat(dt, k_runs)
     with_velocity = (cluster_size[best] >= 3) & (-oldest >= min_velocity_span) & (s_tt > 0)
     velocity = np.full((len(best_object), 2), np.nan)
     velocity[with_velocity] = s_tp[with_velocity] / s_tt[with_velocity][:, None]
