@@ -8,6 +8,7 @@ retrying a match, or playing it on another machine, gives the same result.
 
 from __future__ import annotations
 
+import json
 import multiprocessing
 import os
 from collections import deque
@@ -103,10 +104,29 @@ def default_start_method() -> str:
     return "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
 
 
-# What the fork server imports once, before it forks any worker: the match code (numpy,
-# pymunk, the env). Team modules are not preloaded (a team's import must not be able to take
-# the server down); each worker imports its tournament's teams once, when it starts.
-_FORKSERVER_PRELOAD = ["__main__", "teamenv.tournament.backends"]
+# The fork server imports these once, before it forks any worker: the caller's main module
+# (as spawn would, in every worker) and teamenv.tournament.preload, which imports the match
+# code (numpy, scipy, pymunk, the env) and the teams listed in $TEAMENV_TOURNAMENT_TEAMS.
+PRELOAD_ENV = "TEAMENV_TOURNAMENT_TEAMS"
+_FORKSERVER_PRELOAD = ["__main__", "teamenv.tournament.preload"]
+
+
+def start_forkserver(names: Sequence[str] = ()) -> None:
+    """Start this process's fork server unless it runs already, preloading the match code and
+    the teams ``names`` (in the background: a fork request waits for it). Later tournaments in
+    the same process reuse the server; their other teams are imported by each worker."""
+    from multiprocessing import forkserver
+
+    forkserver.set_forkserver_preload(_FORKSERVER_PRELOAD)
+    old = os.environ.get(PRELOAD_ENV)
+    os.environ[PRELOAD_ENV] = json.dumps(sorted(names))  # read by the server only
+    try:
+        forkserver.ensure_running()
+    finally:
+        if old is None:
+            os.environ.pop(PRELOAD_ENV, None)
+        else:
+            os.environ[PRELOAD_ENV] = old
 
 
 class ProcessPoolBackend:
@@ -114,9 +134,10 @@ class ProcessPoolBackend:
     match.
 
     Workers come from a fork server (``forkserver`` start method where available, else
-    ``spawn``) that has imported teamenv's match code once, so a worker starts in
-    milliseconds rather than re-importing everything; each worker then imports the
-    tournament's teams once (``warm_up``) before its first match.
+    ``spawn``) that has imported teamenv's match code and the tournament's teams once (see
+    ``start_forkserver``), so a worker starts in milliseconds instead of importing numpy,
+    scipy, pymunk and the teams again; each worker looks its teams up once (``warm_up``,
+    which imports any team the server did not) before its first match.
 
     A worker that dies (segfault, ``os._exit``, OOM kill) breaks a ProcessPoolExecutor; the
     pool is then rebuilt and the matches that were in flight are replayed one at a time, each
@@ -134,13 +155,17 @@ class ProcessPoolBackend:
         self.start_method = start_method or default_start_method()
         self.context = multiprocessing.get_context(self.start_method)
 
+    def prepare(self, names: Sequence[str] = ()) -> None:
+        """Get ready to start workers (the runner calls it before it validates the teams, so
+        the two overlap): start the fork server, which imports the match code and ``names``."""
+        if self.start_method == "forkserver":
+            start_forkserver(names)
+
     def start_pool(self, names: Sequence[str] = (), workers: int | None = None
                    ) -> ProcessPoolExecutor:
         """A pool of ``workers`` (default: ``self.workers``) processes that import the teams
         ``names`` once each, when they start."""
-        if self.start_method == "forkserver":
-            # Only read when the fork server starts (once per parent process).
-            self.context.set_forkserver_preload(_FORKSERVER_PRELOAD)
+        self.prepare(names)
         return ProcessPoolExecutor(workers or self.workers, mp_context=self.context,
                                    initializer=warm_up, initargs=(tuple(names),))
 
@@ -237,13 +262,19 @@ class RayBackend:
     ``address``: a running cluster (``"auto"``, ``"ray://host:10001"``); None starts a local
     instance with ``num_cpus`` CPUs (or joins an already initialised one). Team code must be
     importable on every node. A task whose worker dies is retried ``max_retries`` times by Ray,
-    then reported as an error outcome.
+    then reported as an error outcome. Ray reuses its worker processes, so each imports the
+    teams and looks up their versions once.
+
+    ``worker_niceness``: the nice value of the workers of a local instance this backend starts
+    (Ray's default is 15, which lets any other process on the machine starve the matches:
+    they ran several times slower than in a plain process on a busy machine); None keeps
+    Ray's default. Not applied to a cluster or to an instance that is already running.
     """
 
     name = "ray"
 
     def __init__(self, address: str | None = None, num_cpus: int | None = None,
-                 max_retries: int = 1) -> None:
+                 max_retries: int = 1, worker_niceness: int | None = 0) -> None:
         try:
             import ray  # noqa: F401  (the ray extra)
         except ImportError:
@@ -251,6 +282,7 @@ class RayBackend:
         self.address = address
         self.num_cpus = num_cpus
         self.max_retries = max_retries
+        self.worker_niceness = worker_niceness
         self.workers = num_cpus or 0
 
     def run(self, tasks: Sequence[MatchTask]) -> Iterator[Outcome]:
@@ -258,8 +290,11 @@ class RayBackend:
 
         owns = not ray.is_initialized()
         if owns:
+            extra: dict[str, Any] = {}
+            if self.address is None and self.worker_niceness is not None:
+                extra["_system_config"] = {"worker_niceness": int(self.worker_niceness)}
             ray.init(address=self.address, num_cpus=self.num_cpus, include_dashboard=False,
-                     log_to_driver=False, configure_logging=False)
+                     log_to_driver=False, configure_logging=False, **extra)
         remote = ray.remote(num_cpus=1, max_retries=self.max_retries,
                             retry_exceptions=False)(execute_task)
         self.workers = max(1, int(ray.cluster_resources().get("CPU", 1)))

@@ -115,6 +115,9 @@ def _run(store: ResultStore, tournament: Tournament | None, name: str | None, re
         tournament = found[1]
     assert tournament is not None
     runner = make_backend(backend, jobs, ray_address)  # a bad backend fails before anything
+    prepare = getattr(runner, "prepare", None)
+    if prepare is not None:  # e.g. the pool's fork server imports the teams meanwhile
+        prepare(sorted({spec.name for spec in tournament.all_teams}))
     versions = validate_specs(tournament.all_teams, tournament.options)
     if found is None:
         tid = store.create_tournament(tournament, versions)

@@ -1,5 +1,6 @@
 """Backends: one tournament gives the same stored results whichever backend and how many
-workers played it, and the process pool starts its workers once and reuses them."""
+workers played it (serial vs process pool here; Ray vs process pool and serial in
+test_tournament_ray.py), and the process pool starts its workers once and reuses them."""
 
 from __future__ import annotations
 
@@ -43,15 +44,6 @@ def test_process_pool_equals_serial(tmp_path, serial_rows, jobs):
     s = run_tournament(_tournament(), tmp_path / "p.sqlite", jobs=jobs, progress=False)
     assert s.complete and s.backend == "process" and s.workers == jobs
     assert _rows(tmp_path / "p.sqlite", s) == serial_rows
-
-
-@pytest.mark.ray
-def test_ray_equals_serial(tmp_path, serial_rows):
-    pytest.importorskip("ray", reason="the ray extra is installed in CI")
-    s = run_tournament(_tournament(), tmp_path / "r.sqlite", backend="ray", jobs=2,
-                       progress=False)
-    assert s.complete and s.backend == "ray"
-    assert _rows(tmp_path / "r.sqlite", s) == serial_rows
 
 
 def test_pool_workers_start_once_and_are_reused():

@@ -1,4 +1,5 @@
-"""The Ray backend on a local Ray instance gives the same results as the process pool."""
+"""The Ray backend on a local Ray instance gives the same results as the process pool and as
+the serial (in-process) backend."""
 
 from __future__ import annotations
 
@@ -28,9 +29,33 @@ def test_ray_backend_equals_process_pool(tmp_path):
     # the backend starts a local instance: ray.init(num_cpus=2, include_dashboard=False)
     on_ray = run_tournament(t, tmp_path / "ray.sqlite", backend="ray", jobs=2, progress=False)
     assert not ray.is_initialized()  # and shuts down what it started
-    assert pool.complete and on_ray.complete and on_ray.backend == "ray"
-    with ResultStore(tmp_path / "pool.sqlite") as a, ResultStore(tmp_path / "ray.sqlite") as b:
+    serial = run_tournament(t, tmp_path / "serial.sqlite", backend="serial", progress=False)
+    assert pool.complete and on_ray.complete and on_ray.backend == "ray" and serial.complete
+    with ResultStore(tmp_path / "pool.sqlite") as a, ResultStore(tmp_path / "ray.sqlite") as b, \
+            ResultStore(tmp_path / "serial.sqlite") as c:
         got = [r.comparable() for r in b.matches(on_ray.tournament_id)]
         want = [r.comparable() for r in a.matches(pool.tournament_id)]
-    assert len(got) == 4 and got == want
+        in_process = [r.comparable() for r in c.matches(serial.tournament_id)]
+    assert len(got) == 4 and got == want == in_process
     assert sum(len(r["goals"]) for r in got) >= 1  # seed 3 has a goal: events compared too
+
+
+def test_local_ray_workers_are_not_niced(monkeypatch):
+    # Ray nices its workers to 15 by default: on a busy machine the matches then ran several
+    # times slower than in a plain process. A local instance the backend starts uses 0.
+    ray = pytest.importorskip("ray", reason="the ray extra is installed in CI")
+    seen = {}
+
+    def fake_init(**kwargs):
+        seen.update(kwargs)
+        raise RuntimeError("stop here")
+
+    monkeypatch.setattr(ray, "is_initialized", lambda: False)
+    monkeypatch.setattr(ray, "init", fake_init)
+    with pytest.raises(RuntimeError, match="stop here"):
+        list(make_backend("ray", jobs=2).run([]))
+    assert seen["num_cpus"] == 2 and seen["_system_config"] == {"worker_niceness": 0}
+    seen.clear()
+    with pytest.raises(RuntimeError, match="stop here"):
+        list(make_backend("ray", ray_address="auto").run([]))
+    assert seen["address"] == "auto" and "_system_config" not in seen
