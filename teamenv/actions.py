@@ -65,16 +65,20 @@ class ActionParser:
         if set(map(type, actions)) != _DICT:
             return False
         keys = actions[0].keys()
-        if keys <= _FAST_KEYS and all(action.keys() == keys for action in actions):
+        try:
             # Every agent gives the same keys (the usual case): gather column by column.
+            # Same size as the first dict and holding each of its keys = the same keys.
+            if not keys <= _FAST_KEYS or len(set(map(len, actions))) != 1:
+                raise KeyError
             walk_rows = kick_rows = rows
             walks = [action["walk"] for action in actions] if "walk" in keys else []
             kicks = [action["kick"] for action in actions] if "kick" in keys else []
-            if "say" in keys:
-                says = [(row, action["say"]) for row, action in zip(rows, actions)
-                        if action["say"]]
-            else:
-                says = []
+            texts = [action["say"] for action in actions] if "say" in keys else []
+        except KeyError:
+            texts = None
+        if texts is not None:
+            says = list(zip(rows, texts)) if all(texts) else \
+                [(row, text) for row, text in zip(rows, texts) if text]
         else:
             walk_rows, walks, kick_rows, kicks, says = [], [], [], [], []
             fast_keys = _FAST_KEYS

@@ -351,18 +351,20 @@ class SoccerParallelEnv(ParallelEnv):
             raise ActionError(f"actions: expected a dict keyed by agent name, got {type(actions)}")
         dropped: dict[str, list[str]] = {}
         agent_set = set(self.agents)
-        unknown = [a for a in actions if a not in agent_set]
+        # Exactly one action per agent (the usual case): nothing unknown, nothing missing.
+        exact = len(actions) == len(agent_set) and actions.keys() == agent_set
+        unknown = [] if exact else [a for a in actions if a not in agent_set]
         if unknown:
             why = ("driven by a team plugin" if any(
                 str(a).split("_")[0] in self.teams for a in unknown) else "not an agent of this env")
             self._agent_problem(unknown[0], f"unknown agent {unknown[0]!r} ({why}); agents are "
                                 f"{self.agents[:3]}...", dropped)
-        missing = [a for a in self.agents if a not in actions]
+        missing = [] if exact else [a for a in self.agents if a not in actions]
         if missing:
             self._agent_problem(missing[0], f"agent {missing[0]!r}: no action given (missing "
                                 f"agents: {missing}); lenient mode uses the idle action", dropped)
         cmd = Commands.idle(self.sim.n)
-        given = [a for a in self.agents if a in actions]
+        given = list(self.agents) if exact else [a for a in self.agents if a in actions]
         self.parser.fill(cmd, [self._row[a] for a in given], given, [actions[a] for a in given],
                          dropped)
         self._phase_s["actions"] += clock() - start
@@ -380,8 +382,8 @@ class SoccerParallelEnv(ParallelEnv):
         terminated = self.sim.referee.game_over
         truncated = self.max_cycles is not None and self.sim.cycle >= self.max_cycles
         observations = self._agent_observations()
-        terminations = {a: terminated for a in agents}
-        truncations = {a: truncated and not terminated for a in agents}
+        terminations = dict.fromkeys(agents, terminated)
+        truncations = dict.fromkeys(agents, truncated and not terminated)
         infos = self._infos(agents, report, dropped)
         if terminated or truncated:
             self.agents = []
@@ -494,7 +496,7 @@ class SoccerParallelEnv(ParallelEnv):
         self._phase_s["actions"] += self._clock() - start
 
     def _rewards(self, agents: list[str], report: CycleReport, state: np.ndarray | None) -> dict:
-        default = {a: 0.0 for a in agents}
+        default = dict.fromkeys(agents, 0.0)
         for event in report.referee:
             if event.kind == "goal":
                 scorer = SIDES[event.team]

@@ -67,7 +67,6 @@ class CycleReport:
         return [] if self.delivery is None else self.delivery.dropped
 
 
-_tuple_new = tuple.__new__  # builds a NamedTuple from a tuple without its Python __new__
 
 
 class Simulation:
@@ -227,17 +226,19 @@ class Simulation:
         """Hand this cycle's messages to the channel (every cycle: hearing capacities refill
         there) and fill each listener's heard slots: own message first, then teammates', then
         opponents' (stable, so each class keeps the channel's order)."""
-        new, utterance = _tuple_new, comms.Utterance
-        utterances = [new(utterance, (i, text, 100.0)) for i, text in enumerate(say) if text]
         if self._heard_any:
             self._heard_texts = [self._no_texts] * self.n
             self._heard_info.fill(0.0)
             self._heard_any = False
         poses = self.world.player_poses()
-        delivery = self.channel.deliver(utterances, poses[:, :2], poses[:, 2], self.rng)
-        report.deliveries = delivery
-        if not utterances:
+        if any(say):
+            # = deliver([Utterance(i, text, 100.0) for each non-empty text]), less work
+            delivery = self.channel.deliver_texts(say, poses[:, :2], poses[:, 2], self.rng)
+        else:
+            delivery = self.channel.deliver((), poses[:, :2], poses[:, 2], self.rng)
+            report.deliveries = delivery
             return
+        report.deliveries = delivery
         report.delivery = delivery
         pairs = delivery.pairs
         if pairs is None:  # built from the Heard lists (a delivery without arrays)
