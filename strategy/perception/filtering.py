@@ -342,8 +342,8 @@ def _exact_dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float6
             order = np.argsort(g, kind="stable")
             g = g[order]
             pts = pts[order]
-        starts = np.flatnonzero(np.r_[True, g[1:] != g[:-1]])
-        counts = np.diff(np.r_[starts, n])
+        starts = _starts(g)
+        counts = np.diff(starts, append=n)
     w = np.asarray(weights, dtype=np.float64)
     if order is not None:
         w = w[order]
@@ -365,11 +365,12 @@ def _exact_dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float6
         rd += d * d
     near = rd <= eps * eps
     a, b = a[near], b[near]
-    if bool((w == 1.0).all()):
-        weight = 1 + np.bincount(a, minlength=n) + np.bincount(b, minlength=n)
+    if min_samples <= 1:  # every weight is at least 1: every point is a core point
+        core = np.ones(n, dtype=bool)
+    elif bool((w == 1.0).all()):
+        core = 1 + np.bincount(a, minlength=n) + np.bincount(b, minlength=n) >= min_samples
     else:
-        weight = w + np.bincount(a, w[b], n) + np.bincount(b, w[a], n)
-    core = weight >= min_samples
+        core = w + np.bincount(a, w[b], n) + np.bincount(b, w[a], n) >= min_samples
     # components of the core points, each named by its first (smallest) index: every core
     # point first points to its smallest linked neighbour below it (the pairs come sorted by
     # their larger index, then the smaller, so that is the first pair of its run), pointers
@@ -381,7 +382,7 @@ def _exact_dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float6
     la, lb = a[linked], b[linked]
     parent = np.arange(n)
     if len(lb):
-        heads = np.flatnonzero(np.r_[True, lb[1:] != lb[:-1]])
+        heads = _starts(lb)
         parent[lb[heads]] = la[heads]
         while True:
             while True:
@@ -425,7 +426,17 @@ def _runs(keys: NDArray[np.int64]) -> NDArray[np.intp] | None:
     (a per-key maximum or minimum is then one ``reduceat``, exactly ``ufunc.at``'s)."""
     if len(keys) == 0 or not bool((keys[1:] >= keys[:-1]).all()):
         return None
-    return np.flatnonzero(np.r_[True, keys[1:] != keys[:-1]])
+    return _starts(keys)
+
+
+def _starts(keys: NDArray) -> NDArray[np.intp]:
+    """Where each run of equal values of the (non-empty) ``keys`` starts."""
+    out = np.flatnonzero(keys[1:] != keys[:-1])
+    out += 1
+    return np.concatenate((_ZERO, out))
+
+
+_ZERO = np.zeros(1, dtype=np.intp)
 
 
 def _recency(age: NDArray[np.float64], half_life: float) -> NDArray[np.float64]:
@@ -495,15 +506,14 @@ def cluster_objects(times: NDArray[np.float64], xy: NDArray[np.float64],
     n_clusters = int(cl.max()) + 1
     cluster_score = np.bincount(cl, score_w[members], n_clusters)
     by_cluster = np.argsort(cl, kind="stable")
-    cl_runs = np.flatnonzero(np.r_[True, cl[by_cluster][1:] != cl[by_cluster][:-1]])
+    cl_runs = _starts(cl[by_cluster])
     cluster_newest = np.maximum.reduceat(times[members][by_cluster], cl_runs)
     cluster_object = np.zeros(n_clusters, dtype=np.int64)
     cluster_object[cl] = objects[members]  # one object per cluster (they are kept apart)
     cluster_size = np.bincount(cl, minlength=n_clusters)
     # best per object: largest score, then newest sighting, then lowest label
     order = np.lexsort((np.arange(n_clusters), -cluster_newest, -cluster_score, cluster_object))
-    first = np.r_[True, cluster_object[order][1:] != cluster_object[order][:-1]]
-    best = order[first]
+    best = order[_starts(cluster_object[order])]
     best_object = cluster_object[best]
     in_best = np.zeros(n_clusters, dtype=bool)
     in_best[best] = True
@@ -528,31 +538,36 @@ def cluster_objects(times: NDArray[np.float64], xy: NDArray[np.float64],
     slot = np.empty(n_objects, dtype=np.int64)
     slot[best_object] = np.arange(len(best_object))
     k = slot[obj]
-    ddt = dt - t_mean[k]
     dp = p - mean[k]
-    s_tt = np.bincount(k, w * ddt * ddt, len(best_object))
-    s_tp = np.column_stack([np.bincount(k, w * ddt * dp[:, i], len(best_object))
-                            for i in (0, 1)])
-    oldest = np.full(len(best_object), np.inf)
-    k_runs = _runs(k)
-    if k_runs is None:
-        np.minimum.at(oldest, k, dt)
+    if math.isinf(min_velocity_span):  # no velocity is ever fitted: the spread about the mean
+        spread = np.sqrt(np.bincount(k, w * (dp * dp).sum(axis=1), len(best_object)) / total)
+        velocity = np.full((len(best_object), 2), np.nan)
+        velocity_sigma = np.full(len(best_object), np.nan)
     else:
-        oldest[k[k_runs]] = np.minimum.reduceat(dt, k_runs)
-    with_velocity = (cluster_size[best] >= 3) & (-oldest >= min_velocity_span) & (s_tt > 0)
-    velocity = np.full((len(best_object), 2), np.nan)
-    velocity[with_velocity] = s_tp[with_velocity] / s_tt[with_velocity][:, None]
-    residual = dp - np.where(with_velocity[k][:, None], velocity[k] * ddt[:, None], 0.0)
-    spread = np.sqrt(np.bincount(k, w * (residual * residual).sum(axis=1),
-                                 len(best_object)) / total)
-    # weighted least squares: var(slope) = s2 * sum(w^2 dt^2) / s_tt^2, with s2 the residual
-    # variance per axis (2 parameters fitted per axis: n - 2 degrees of freedom)
-    n_members = cluster_size[best].astype(np.float64)
-    s2 = spread**2 / 2.0 * n_members / np.maximum(n_members - 2.0, 1.0)
-    s_wwtt = np.bincount(k, w * w * ddt * ddt, len(best_object))
-    velocity_sigma = np.full(len(best_object), np.nan)
-    velocity_sigma[with_velocity] = np.sqrt(
-        s2[with_velocity] * s_wwtt[with_velocity]) / s_tt[with_velocity]
+        ddt = dt - t_mean[k]
+        s_tt = np.bincount(k, w * ddt * ddt, len(best_object))
+        s_tp = np.column_stack([np.bincount(k, w * ddt * dp[:, i], len(best_object))
+                                for i in (0, 1)])
+        oldest = np.full(len(best_object), np.inf)
+        k_runs = _runs(k)
+        if k_runs is None:
+            np.minimum.at(oldest, k, dt)
+        else:
+            oldest[k[k_runs]] = np.minimum.reduceat(dt, k_runs)
+        with_velocity = (cluster_size[best] >= 3) & (-oldest >= min_velocity_span) & (s_tt > 0)
+        velocity = np.full((len(best_object), 2), np.nan)
+        velocity[with_velocity] = s_tp[with_velocity] / s_tt[with_velocity][:, None]
+        residual = dp - np.where(with_velocity[k][:, None], velocity[k] * ddt[:, None], 0.0)
+        spread = np.sqrt(np.bincount(k, w * (residual * residual).sum(axis=1),
+                                     len(best_object)) / total)
+        # weighted least squares: var(slope) = s2 * sum(w^2 dt^2) / s_tt^2, with s2 the residual
+        # variance per axis (2 parameters fitted per axis: n - 2 degrees of freedom)
+        n_members = cluster_size[best].astype(np.float64)
+        s2 = spread**2 / 2.0 * n_members / np.maximum(n_members - 2.0, 1.0)
+        s_wwtt = np.bincount(k, w * w * ddt * ddt, len(best_object))
+        velocity_sigma = np.full(len(best_object), np.nan)
+        velocity_sigma[with_velocity] = np.sqrt(
+            s2[with_velocity] * s_wwtt[with_velocity]) / s_tt[with_velocity]
 
     out["positions"][best_object] = mean
     out["newest_s"][best_object] = cluster_newest[best]
@@ -589,6 +604,10 @@ class MultiObjectWindow:
         self._xy = np.zeros(size + (2,))
         self._weights = np.zeros(size)
         self._version = 0
+        self._max_time = -np.inf  # at least the latest sighting time held
+        # (version, newest per object, alive, fresh, key) of the last window when every
+        # sighting held was in the past, so an unchanged window is recognised cheaply
+        self._fresh_memo: tuple | None = None
         # a few clusterings by content key: a caller may alternate between two times
         self._cache: dict[tuple[int, bytes], dict[str, NDArray]] = {}
         self._last: tuple[int, NDArray[np.bool_], dict[str, NDArray]] | None = None
@@ -642,6 +661,8 @@ class MultiObjectWindow:
         keep = rows[np.arange(len(ids)), slot] <= time_s
         ids, slot = ids[keep], slot[keep]
         self._times[ids, slot] = time_s
+        if len(ids):
+            self._max_time = max(self._max_time, time_s)
         self._xy[ids, slot] = points[keep]
         self._weights[ids, slot] = w[keep]
         self._version += 1
@@ -653,6 +674,7 @@ class MultiObjectWindow:
         # no version bump: the fresh sightings are untouched, so cached clusterings stay
         # valid (a cache key is the version plus the fresh slots)
         self._times[stale] = -np.inf
+        self._fresh_memo = None
 
     def fresh_count(self, now_s: float) -> NDArray[np.int64]:
         """(N,) number of fresh sightings per object."""
@@ -680,8 +702,19 @@ class MultiObjectWindow:
         """
         if not math.isfinite(now_s):
             raise SightingError(f"estimate time now_s must be finite, got {now_s!r}")
-        fresh = self._fresh(now_s)
-        key = (self._version, fresh.tobytes())
+        memo = self._fresh_memo
+        if memo is not None and memo[0] == self._version and self._max_time <= now_s and \
+                np.array_equal(now_s - memo[1] <= self.params.max_age_s, memo[2]):
+            # nothing added and no object went out of date: the same window as last time
+            fresh, key = memo[3], memo[4]
+        else:
+            fresh = self._fresh(now_s)
+            key = (self._version, fresh.tobytes())
+            self._fresh_memo = None
+            if self._max_time <= now_s:  # every sighting held is past: newest = row maximum
+                newest = self._times.max(axis=1)
+                self._fresh_memo = (self._version, newest, now_s - newest <= self.params.max_age_s,
+                                    fresh, key)
         stats = self._cache.get(key)
         if stats is None:
             stats = self._without_stale_objects(fresh)

@@ -79,7 +79,7 @@ class TeamSightings:
         ids = np.asarray(opponents, dtype=np.int64) + 1
         xy = np.asarray(opponent_xy, dtype=np.float64).reshape(-1, 2)
         if ball is not None:
-            ids = np.r_[0, ids]
+            ids = np.concatenate((np.zeros(1, dtype=np.int64), ids))
             xy = np.vstack((np.asarray(ball, dtype=np.float64)[None], xy))
         if len(ids):
             self.window.add(time_s, agent * self.stride + ids, xy)

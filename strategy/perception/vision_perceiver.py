@@ -128,7 +128,8 @@ class VisionPerceiver:
         rows = [k for k, f in zip(index, fresh, strict=True) if f]
         seen = [o for o, f in zip(obs, fresh, strict=True) if f]
         if rows:
-            self.localizer.correct(rows, np.stack([o["landmarks"] for o in seen]),
+            self.localizer.correct(None if rows == self._all else rows,
+                                   np.stack([o["landmarks"] for o in seen]),
                                    np.stack([o["lines"] for o in seen]))
         estimate = self.localizer.estimate()
         poses, spreads = estimate.pose, estimate.spread
