@@ -168,11 +168,20 @@ def bench_components(steps: int, team_size: int, **obs: str) -> dict[str, float]
     env.reset(seed=0)
     sim, n = env.sim, env.sim.n
     rng = np.random.default_rng(0)
-    actions = {a: {"walk": rng.uniform([-1, -0.4, -1.5], [1.5, 0.4, 1.5]).astype(np.float32)}
+    profile = env.sim.channel.profile
+    actions = {a: {"walk": rng.uniform([-1, -0.4, -1.5], [1.5, 0.4, 1.5]).astype(np.float32),
+                   "say": random_say(rng, profile)}
                for a in env.agents}
     for _ in range(50):
         env.step(actions)
-    from teamenv.sim.simulation import Commands
+    from teamenv.sim.simulation import Commands, CycleReport
+
+    says = [[random_say(rng, profile) for _ in range(n)] for _ in range(16)]
+    cycle = [0]
+
+    def deliver() -> None:
+        cycle[0] += 1
+        sim._deliver(says[cycle[0] % 16], CycleReport())
 
     def timed(fn) -> float:
         start = time.perf_counter()
@@ -203,13 +212,16 @@ def bench_components(steps: int, team_size: int, **obs: str) -> dict[str, float]
             parts["perception + Dict views, update cycle"]
             + (period - 1) * parts["perception + Dict views, other cycle"]) / period
     return parts | {
-        "action validation (22 Dict actions)": timed(
+        "action validation (22 Dict actions + say)": timed(
             lambda: env.parser.fill(cmd, rows, env.agents, [actions[a] for a in env.agents], {})),
         "locomotion Bodies.step": timed(
             lambda: sim.bodies.step(walk, kick, zeros, zeros, zeros, sim.rng, dt=0.02)),
         "world.step (pymunk + body I/O)": timed(lambda: sim.world.step(np.zeros((n, 3)))),
-        "perception (22 observations)": timed(lambda: (sim.world._invalidate(),
-                                                        sim.observations())),
+        f"say delivery ({n} speakers, channel + heard slots)": timed(deliver),
+        "perception (22 observations, eager dicts)": timed(lambda: (sim.world._invalidate(),
+                                                                     sim.observations())),
+        "perception (22 observations, lazy dicts)": timed(lambda: (sim.world._invalidate(),
+                                                                    sim.observations(lazy=True))),
         "whole env.step": timed(lambda: env.step(actions)),
     }
 
@@ -274,7 +286,7 @@ def main() -> None:
     if not args.no_components:
         print("where an env step goes (each part timed alone):")
         for name, us in bench_components(s // 2, n, **obs).items():
-            print(f"  {name:40s} {us:8.1f} us")
+            print(f"  {name:50s} {us:8.1f} us")
 
 
 if __name__ == "__main__":

@@ -13,6 +13,7 @@ from .walk import apply_envelope, compose, omni_displacement, track
 __all__ = ["Bodies", "StepResult"]
 
 _EPS = 1e-9
+_object_new = object.__new__
 
 
 @dataclass(frozen=True)
@@ -336,7 +337,9 @@ class Bodies:
         else:
             fallen = self._all_false
         kicking_after = self.kick_elapsed >= 0.0 if self._n_kicking else self._all_false
-        return StepResult(
+        # = StepResult(...), without the frozen dataclass's nine object.__setattr__ calls
+        result = _object_new(StepResult)
+        result.__dict__.update(
             delta_pose=delta,
             velocity=vel.copy(),
             odometry=odometry,
@@ -347,3 +350,4 @@ class Bodies:
             can_act=~(fallen | kicking_after),
             fell=fell.copy(),
         )
+        return result

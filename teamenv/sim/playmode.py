@@ -25,16 +25,12 @@ class PlayMode(IntEnum):
     @property
     def team(self) -> int | None:
         """0 for a ``_Left`` mode, 1 for ``_Right``, None for modes of neither team."""
-        if self.name.endswith("_Left"):
-            return 0
-        if self.name.endswith("_Right"):
-            return 1
-        return None
+        return _TEAM[self]
 
     @property
     def kind(self) -> str:
         """The mode without its team suffix, e.g. ``CornerKick``."""
-        return self.name.rsplit("_", 1)[0] if self.team is not None else self.name
+        return _KIND[self]
 
     @classmethod
     def of(cls, kind: str, team: int) -> PlayMode:
@@ -43,9 +39,25 @@ class PlayMode(IntEnum):
 
     def for_team(self, team: int) -> PlayMode:
         """This mode as team ``team`` sees it: its own modes are ``_Left``."""
-        if team == 0 or self.team is None:
+        if team == 0:
             return self
-        return PlayMode.of(self.kind, 1 - self.team)
+        return _MIRROR[self]
+
+
+def _team_of_name(name: str) -> int | None:
+    if name.endswith("_Left"):
+        return 0
+    if name.endswith("_Right"):
+        return 1
+    return None
+
+
+# Looked up per cycle by the referee and perception: tables instead of string work.
+_TEAM: dict[PlayMode, int | None] = {m: _team_of_name(m.name) for m in PlayMode}
+_KIND: dict[PlayMode, str] = {
+    m: m.name.rsplit("_", 1)[0] if _TEAM[m] is not None else m.name for m in PlayMode}
+_MIRROR: dict[PlayMode, PlayMode] = {
+    m: m if _TEAM[m] is None else PlayMode.of(_KIND[m], 1 - _TEAM[m]) for m in PlayMode}
 
 
 PLAY_MODES: tuple[str, ...] = tuple(m.name for m in PlayMode)
