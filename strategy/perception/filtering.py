@@ -364,6 +364,21 @@ def _exact_dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float6
         d = c[a] - c[b]
         rd += d * d
     near = rd <= eps * eps
+    if near.all():  # every group is a clique (the usual case): one cluster or all noise
+        dense = np.add.reduceat(w, starts) >= min_samples  # integer weights: exact sums
+        number = np.full(len(starts), -1, dtype=np.int64)
+        dense_groups = np.flatnonzero(dense)
+        if order is None:
+            number[dense_groups] = np.arange(len(dense_groups))
+        else:  # clusters numbered by their first point's original index
+            by_first = np.argsort(order[starts[dense_groups]], kind="stable")
+            number[dense_groups[by_first]] = np.arange(len(dense_groups))
+        labels = np.repeat(number, counts)
+        if order is not None:
+            out = np.empty(n, dtype=np.int64)
+            out[order] = labels
+            labels = out
+        return labels
     a, b = a[near], b[near]
     if min_samples <= 1:  # every weight is at least 1: every point is a core point
         core = np.ones(n, dtype=bool)
