@@ -45,7 +45,7 @@ class TeamSightings:
         # new ones), and the opponents of the last estimate
         self._own_of: NDArray | None = None
         self._own_bases: list = [None] * self.n_agents
-        self._opponents_of: MultiEstimate | None = None
+        self._opponents_of: NDArray | None = None
         self._opponents: tuple[NDArray[np.float64], NDArray[np.bool_]] | None = None
         # heard reports: each agent's latest report per sender (the same as its BallBelief
         # holds), as arrays: seen-at time (NaN: none), position, the order the sender was
@@ -134,16 +134,17 @@ class TeamSightings:
 
     def all_opponents(self, now_s: float) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
         """Every agent's opponents: (A, N, 2) positions (zeros where unknown), (A, N) known
-        (row k is agent k's own; new arrays whenever the estimate is new)."""
+        (row k is agent k's own; fresh copies every call, computed once per clustering)."""
         est = self.estimate(now_s)
-        if self._opponents_of is not est:
+        if self._opponents_of is not est.known:  # a new clustering (the age does not matter)
             shape = (self.n_agents, self.stride)
             known = est.known.reshape(shape)[:, 1:].copy()
             latest = est.latest_positions().reshape(shape + (2,))[:, 1:]
             positions = np.where(known[:, :, None], latest, 0.0)
-            self._opponents_of, self._opponents = est, (positions, known)
+            self._opponents_of, self._opponents = est.known, (positions, known)
         assert self._opponents is not None
-        return self._opponents
+        positions, known = self._opponents
+        return positions.copy(), known.copy()
 
     def ball_beliefs(self, now_s: float) -> list[BallEstimate]:
         """Every agent's ball belief at ``now_s`` (own sightings, else heard reports)."""
