@@ -8,7 +8,7 @@ pymunk loop with the same 2N + 1 bodies and walls that each step sets 2N velocit
 ``body.position``), then calls ``space.step(0.02)``. Target (issue 16): env(Dict + say) >= 0.25
 x the reference. Actions are drawn before timing.
 
-Usage: python benchmarks/env_speed.py [--steps 3000] [--team-size 11] [--repeats 3]
+Usage: python benchmarks/env_speed.py [--steps 1000] [--team-size 11] [--repeats 10]
                                      [--observation vision [--vision simspark|mj]]
 """
 
@@ -40,52 +40,111 @@ def random_say(rng: np.random.Generator, profile) -> str:
     return "".join(chars[k] for k in rng.integers(0, len(chars), n))
 
 
-def bench_env(steps: int, team_size: int, action_format: str, seed: int = 0, say: bool = False,
-              name: str | None = None, repeats: int = 1, read: bool = False, **obs: str) -> float:
-    """Best steps/s of ``repeats`` timed runs of ``steps`` steps (timings of the best run).
+class EnvRun:
+    """One timed configuration of the env: random actions drawn before timing, warmed up;
+    each call times ``steps`` steps and keeps the best rate (and that run's env.timings()).
     ``read``: every step also reads every agent's observation and info (the env builds the
     per-agent dicts of both on first access)."""
-    env = teamenv.parallel_env(team_size=team_size, action_format=action_format,
-                               rules={"half_time_s": 1e6}, **obs)
-    env.reset(seed=seed)
-    rng = np.random.default_rng(seed)
-    profile = env.sim.channel.profile
-    # Actions are drawn before timing: we measure the env, not the action sampler.
-    pool = []
-    for _ in range(64):
-        if action_format == "box":
-            acts = rng.uniform(-1, 1, (len(env.agents), 9)).astype(np.float32)
-            pool.append(dict(zip(env.agents, acts)))
-        else:
-            acts = {}
-            for a in env.agents:
-                acts[a] = {"walk": rng.uniform([-1, -0.4, -1.5], [1.5, 0.4, 1.5]).astype(np.float32),
-                           "kick": np.array([rng.random() * (rng.random() < 0.1), 0], np.float32)}
-                if say:
-                    acts[a]["say"] = random_say(rng, profile)
-            pool.append(acts)
-    for k in range(100):  # warm-up
-        env.step(pool[k % 64])
-    best, best_timings = 0.0, None
-    for _ in range(repeats):
-        env.reset_timings()
-        start = time.perf_counter()
-        if read:
-            for k in range(steps):
-                observations, _, _, _, infos = env.step(pool[k % 64])
+
+    def __init__(self, steps: int, team_size: int, action_format: str, seed: int = 0,
+                 say: bool = False, read: bool = False, name: str | None = None,
+                 **obs: str) -> None:
+        self.steps, self.read = steps, read
+        self.name = name or (f"{action_format.capitalize()}" + (" + say" if say else "")
+                             + (", read" if read else ""))
+        env = self.env = teamenv.parallel_env(team_size=team_size, action_format=action_format,
+                                              rules={"half_time_s": 1e6}, **obs)
+        env.reset(seed=seed)
+        rng = np.random.default_rng(seed)
+        profile = env.sim.channel.profile
+        # Actions are drawn before timing: we measure the env, not the action sampler.
+        self.pool = pool = []
+        for _ in range(64):
+            if action_format == "box":
+                acts = rng.uniform(-1, 1, (len(env.agents), 9)).astype(np.float32)
+                pool.append(dict(zip(env.agents, acts)))
+            else:
+                acts = {}
+                for a in env.agents:
+                    acts[a] = {
+                        "walk": rng.uniform([-1, -0.4, -1.5], [1.5, 0.4, 1.5]).astype(np.float32),
+                        "kick": np.array([rng.random() * (rng.random() < 0.1), 0], np.float32)}
+                    if say:
+                        acts[a]["say"] = random_say(rng, profile)
+                pool.append(acts)
+        self.k = 0
+        self._run(100)  # warm-up
+        self.best = 0.0
+
+    def _run(self, count: int) -> None:
+        env, pool, k = self.env, self.pool, self.k
+        if self.read:
+            for j in range(k, k + count):
+                observations, _, _, _, infos = env.step(pool[j % 64])
                 for agent in observations:
                     observations[agent], infos[agent]
         else:
-            for k in range(steps):
-                env.step(pool[k % 64])
-        rate = steps / (time.perf_counter() - start)
-        if rate > best:
-            best, best_timings = rate, env.timings()
-    if name is None:
-        name = f"{action_format.capitalize()}" + (" + say" if say else "") + \
-            (", read" if read else "")
-    PHASES[name] = {k: v / steps for k, v in best_timings.items()}
-    return best
+            for j in range(k, k + count):
+                env.step(pool[j % 64])
+        self.k = k + count
+
+    def __call__(self) -> float:
+        self.env.reset_timings()
+        start = time.perf_counter()
+        self._run(self.steps)
+        rate = self.steps / (time.perf_counter() - start)
+        if rate > self.best:
+            self.best = rate
+            PHASES[self.name] = {k: v / self.steps for k, v in self.env.timings().items()}
+        return self.best
+
+
+class ReferenceRun:
+    """The reference loop of issue 16: the env's World (the same 2N players + ball, goal posts,
+    nets and walls) driven from plain Python through pymunk's per-body attributes. Each step
+    sets 2N velocities (``body.velocity = (vx, vy)``), reads 2N + 1 positions
+    (``body.position``), then calls ``space.step(0.02)``. Each call times ``steps`` steps and
+    keeps the best rate."""
+
+    def __init__(self, steps: int, team_size: int, field: str = "simspark",
+                 seed: int = 0) -> None:
+        env = teamenv.parallel_env(field=field, team_size=team_size)
+        env.reset(seed=seed)
+        world: World = env.sim.world
+        self.space, self.players = world.space, world.players
+        self.bodies = [*world.players, world.ball]
+        rng = np.random.default_rng(seed)
+        n = 2 * team_size
+        self.vel = [[(float(vx), float(vy)) for vx, vy in rng.uniform(-1, 1, (n, 2))]
+                    for _ in range(64)]
+        self.steps, self.k, self.best = steps, 0, 0.0
+        self._run(100)
+
+    def _run(self, count: int) -> list:
+        space, bodies, players, vel = self.space, self.bodies, self.players, self.vel
+        positions = []
+        for k in range(self.k, self.k + count):
+            for body, v in zip(players, vel[k % 64]):
+                body.velocity = v
+            positions = [body.position for body in bodies]
+            space.step(0.02)
+        self.k += count
+        return positions
+
+    def __call__(self) -> float:
+        start = time.perf_counter()
+        self._run(self.steps)
+        self.best = max(self.best, self.steps / (time.perf_counter() - start))
+        return self.best
+
+
+def bench_env(steps: int, team_size: int, action_format: str, seed: int = 0, say: bool = False,
+              name: str | None = None, repeats: int = 1, read: bool = False, **obs: str) -> float:
+    """Best steps/s of ``repeats`` timed runs of ``steps`` steps (timings of the best run)."""
+    run = EnvRun(steps, team_size, action_format, seed, say, read, name, **obs)
+    for _ in range(repeats):
+        run()
+    return run.best
 
 
 def bench_teams(steps: int, team_size: int, left: str, right: str, **obs: str) -> float:
@@ -105,35 +164,11 @@ def bench_teams(steps: int, team_size: int, left: str, right: str, **obs: str) -
 
 def bench_reference(steps: int, team_size: int, field: str = "simspark", seed: int = 0,
                     repeats: int = 1) -> float:
-    """The reference loop of issue 16: the env's World (the same 2N players + ball, goal posts,
-    nets and walls) driven from plain Python through pymunk's per-body attributes. Each step
-    sets 2N velocities (``body.velocity = (vx, vy)``), reads 2N + 1 positions
-    (``body.position``), then calls ``space.step(0.02)``. Best steps/s of ``repeats`` runs."""
-    env = teamenv.parallel_env(field=field, team_size=team_size)
-    env.reset(seed=seed)
-    world: World = env.sim.world
-    space, bodies = world.space, [*world.players, world.ball]
-    players = world.players
-    rng = np.random.default_rng(seed)
-    n = 2 * team_size
-    vel = [[(float(vx), float(vy)) for vx, vy in rng.uniform(-1, 1, (n, 2))] for _ in range(64)]
-
-    def run(count: int) -> list:
-        positions = []
-        for k in range(count):
-            for body, v in zip(players, vel[k % 64]):
-                body.velocity = v
-            positions = [body.position for body in bodies]
-            space.step(0.02)
-        return positions
-
-    run(100)
-    best = 0.0
+    """Best steps/s of ``repeats`` runs of the reference loop (see ReferenceRun)."""
+    run = ReferenceRun(steps, team_size, field, seed)
     for _ in range(repeats):
-        start = time.perf_counter()
-        run(steps)
-        best = max(best, steps / (time.perf_counter() - start))
-    return best
+        run()
+    return run.best
 
 
 def bench_bare_pymunk(steps: int, team_size: int, seed: int = 0) -> tuple[float, float]:
@@ -228,10 +263,11 @@ def bench_components(steps: int, team_size: int, **obs: str) -> dict[str, float]
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--steps", type=int, default=3000)
+    parser.add_argument("--steps", type=int, default=1000, help="steps per timed run")
     parser.add_argument("--team-size", type=int, default=11)
-    parser.add_argument("--repeats", type=int, default=3,
-                        help="timed runs of each env and reference loop; the best is kept")
+    parser.add_argument("--repeats", type=int, default=10,
+                        help="timed runs of the reference and each env run, in turn; the best "
+                             "of each is kept")
     parser.add_argument("--field", default="simspark")
     parser.add_argument("--channel", default=None, help="say channel: simspark | mj")
     parser.add_argument("--observation", choices=("state", "vision"), default="state")
@@ -247,12 +283,20 @@ def main() -> None:
         obs["channel"] = args.channel
     print(f"teamenv {teamenv.__version__}, python {platform.python_version()}, "
           f"{platform.machine()}, {n} v {n}, {s} steps x {r} repeats (best kept), options {obs}")
-    reference = bench_reference(s, n, field=args.field, repeats=r)
+    # The reference and the env runs are timed in turn, repeat after repeat, and each keeps
+    # its best: on a shared machine every run sees the same quiet and busy spells.
+    reference_run = ReferenceRun(s, n, field=args.field)
+    runs = {"say": EnvRun(s, n, "dict", say=True, **obs),
+            "read": EnvRun(s, n, "dict", say=True, read=True, **obs),
+            "dict": EnvRun(s, n, "dict", **obs),
+            "box": EnvRun(s, n, "box", **obs)}
+    for _ in range(r):
+        reference_run()
+        for run in runs.values():
+            run()
+    reference = reference_run.best
+    env_say, env_read, env_dict, env_box = (runs[k].best for k in ("say", "read", "dict", "box"))
     world_rate, space_rate = bench_bare_pymunk(s, n)
-    env_say = bench_env(s, n, "dict", say=True, repeats=r, **obs)
-    env_read = bench_env(s, n, "dict", say=True, repeats=r, read=True, **obs)
-    env_dict = bench_env(s, n, "dict", repeats=r, **obs)
-    env_box = bench_env(s, n, "box", repeats=r, **obs)
     rows = [
         ("reference: per-body velocity/position + space.step", reference, None),
         ("bare pymunk: space.step only (env's substep rule)", space_rate, None),

@@ -232,7 +232,9 @@ class Channel:
         self._is_self = np.eye(n_agents, dtype=bool)
         self._not_self = ~self._is_self
         self._same = self.teams[:, None] == self.teams[None, :]
-        self._classes = np.stack((self._same, ~self._same))  # [class, speaker, listener]
+        # [self, same team, teammate, opponent] x [speaker, listener]
+        self._masks = np.stack((self._is_self, self._same, self._same & self._not_self,
+                                ~self._same))
         self._cap = np.zeros((2, n_agents), dtype=np.int64)
         self._queue: deque[Delivery] = deque()
         self.reset()
@@ -444,18 +446,27 @@ class Channel:
         x, y = pos[:, 0], pos[:, 1]
         rel = (x[spk][:, None] - x, y[spk][:, None] - y)  # listener -> speaker, (S, N) each
         dist = np.hypot(*rel)
-        is_self = self._is_self[spk]  # (S, N) rows of the speakers
-        same = self._same[spk]
-        in_range = dist <= prof.hearing_range_m
-        audible = in_range & self._not_self[spk]
+        # Rows of the speakers: [self, same team, teammate (not self), opponent] x (S, N).
+        masks = self._masks[:, spk]
+        is_self, same = masks[0], masks[1]
         chunks: list[tuple[np.ndarray, str]] = []
-        if not in_range.all():
-            chunks.append((~in_range, REASON_OUT_OF_RANGE))
+        everyone = dist.max() <= prof.hearing_range_m  # (False for NaN: checked below)
+        if everyone:
+            in_range = audible = None  # audible: all but self (built below if needed)
+            by_class = masks[2:]  # teammates, opponents: all audible
+        else:
+            in_range = dist <= prof.hearing_range_m
+            audible = in_range & ~is_self
+            by_class = None
+            if not in_range.all():
+                chunks.append((~in_range, REASON_OUT_OF_RANGE))
 
         if prof.attenuation_db_per_doubling > 0.0:
             # mj: loudest-first ranking, random loss of the quieter ones. Ranked by the
             # equivalent distance d_eff (the distance from which a max-volume message arrives
             # as loud), which orders like the received volume and feeds the loss model.
+            if audible is None:
+                audible = ~is_self
             att = prof.attenuation_db_per_doubling
             ref = prof.reference_distance_m
             doublings = np.log2(np.maximum(dist, ref) * (1.0 / ref))
@@ -491,11 +502,12 @@ class Channel:
             # simspark: range, then per-listener capacity in arrival order, per sender class
             # (axis 0: teammates, opponents).
             cap = prof.capacity
-            by_class = audible & self._classes[:, spk]  # (2, S, N)
+            if by_class is None:
+                by_class = in_range & masks[2:]  # (2, S, N)
             if cap is not None:
                 ok = by_class & (np.cumsum(by_class, axis=1) <= (self._cap // cap.cost)[:, None])
                 self._cap -= cap.cost * ok.sum(axis=1)
-                over = by_class & ~ok
+                over = by_class ^ ok  # ok is within by_class: the ones over capacity
                 by_class = ok
                 if over.any():
                     chunks.append((over[0] | over[1], REASON_CAPACITY))

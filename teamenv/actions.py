@@ -107,6 +107,11 @@ class ActionParser:
         # Legal non-empty str texts, all in one match (False for a non-str: path below names it).
         if says and not self._all_legal([text for _, text in says]):
             return False
+        if walk_rows is rows and type(rows) is list and _is_range(rows):  # rows 0..k-1: a slice
+            walk_rows = kick_rows = slice(0, len(rows))
+            if len(says) == len(rows):
+                cmd.say[:len(rows)] = [text for _, text in says]
+                says = []
         if walks:
             cmd.walk[walk_rows] = walk
         if kicks:
@@ -238,6 +243,18 @@ class ActionParser:
             raise error(message)
         dropped.setdefault(agent, []).append(message)
         warnings.warn(message, RuntimeWarning, stacklevel=4)
+
+
+_RANGES: dict[int, list[int]] = {}
+
+
+def _is_range(rows: list[int]) -> bool:
+    """True when ``rows`` is [0, 1, ..., len(rows) - 1]."""
+    k = len(rows)
+    ref = _RANGES.get(k)
+    if ref is None:
+        ref = _RANGES[k] = list(range(k))
+    return rows == ref
 
 
 def _fmt(arr: np.ndarray) -> str:

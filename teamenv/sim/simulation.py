@@ -19,6 +19,8 @@ from teamenv.sim.referee import Referee, RefereeEvent
 from teamenv.sim.vision import VisionPerception
 from teamenv.sim.world import World, wrap_angle
 
+_MINUS_PLUS = np.array([-1.0, 1.0])
+
 #: Phases of a cycle timed by ``Simulation`` (see ``Simulation.phase_s``).
 SIM_PHASES = ("beam", "locomotion", "kick", "physics", "referee", "comms", "perception")
 
@@ -161,8 +163,12 @@ class Simulation:
         h = poses[:, 2]
         cos_h, sin_h = np.cos(h), np.sin(h)
         velocity = np.empty((self.n, 3))
-        velocity[:, 0] = (cos_h * delta[:, 0] - sin_h * delta[:, 1]) / dt
-        velocity[:, 1] = (sin_h * delta[:, 0] + cos_h * delta[:, 1]) / dt
+        # World-frame velocity: vx = (c dx - s dy) / dt, vy = (s dx + c dy) / dt, as
+        # (c dx + -(s dy), c dy + s dx) in two columns at once (the same IEEE results).
+        turned = sin_h[:, None] * delta[:, 1::-1]
+        turned *= _MINUS_PLUS
+        turned += cos_h[:, None] * delta[:, :2]
+        velocity[:, :2] = turned / dt
         velocity[:, 2] = delta[:, 2] / dt
         t2 = clock()
         acc["locomotion"] += t2 - t1
@@ -256,11 +262,10 @@ class Simulation:
             listener, _, texts_a, direction_a, is_self_a, mate_a = pairs
             if not listener.size:
                 return
-            counts = np.bincount(listener, minlength=self.n)
         total = len(listener)
-        # (listener, message) pairs come sorted by listener: slot = rank within a listener.
-        start = np.cumsum(counts) - counts
-        slot = np.arange(total) - start[listener]
+        # (listener, message) pairs come sorted by listener: slot = rank within a listener,
+        # the distance to the listener's first pair.
+        slot = np.arange(total) - np.searchsorted(listener, listener)
         if pairs is None or not delivery.grouped:
             # Sort each listener's pairs by slot class (self, teammate, opponent), stable,
             # and keep the first heard_slots (the channel's own order need not be that).
