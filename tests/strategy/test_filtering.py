@@ -437,7 +437,7 @@ def test_numpy_dbscan_labels_like_sklearn_dbscan():
     from strategy.perception.filtering import _dbscan_labels, _exact_dbscan_labels
 
     rng = np.random.default_rng(5)
-    for _ in range(400):
+    for _ in range(250):
         n = int(rng.integers(1, 40))
         eps = float(rng.choice([0.3, 0.5, 1.0]))
         min_samples = int(rng.integers(1, 6))
@@ -455,6 +455,16 @@ def test_numpy_dbscan_labels_like_sklearn_dbscan():
             np.column_stack([pts, groups * 2.0 * eps]), sample_weight=weights).labels_
         np.testing.assert_array_equal(_dbscan_labels(pts, unit, eps, min_samples, groups),
                                       expected)
+    # every group a clique (the usual windows): one cluster or noise per group
+    for _ in range(100):
+        n = int(rng.integers(1, 40))
+        min_samples = int(rng.integers(1, 6))
+        groups = rng.integers(0, 6, size=n)
+        pts = groups[:, None] * 5.0 + rng.normal(size=(n, 2)) * 0.1
+        expected = DBSCAN(eps=0.5, min_samples=min_samples, algorithm="ball_tree").fit(
+            np.column_stack([pts, groups * 1.0])).labels_
+        np.testing.assert_array_equal(_dbscan_labels(pts, np.ones(n), 0.5, min_samples,
+                                                     groups), expected)
     # non-integer weights go to sklearn itself
     pts = rng.normal(size=(20, 2))
     w = rng.uniform(0.5, 2.0, 20)

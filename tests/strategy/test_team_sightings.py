@@ -81,3 +81,43 @@ def test_clearing_the_ball_forgets_it_for_everyone():
     team.clear_ball()
     assert all(b.position is None for b in team.ball_beliefs(0.12))
     assert team.opponents(0.12, 0)[1][0]  # opponents are kept
+
+
+def test_batched_sightings_and_reports_equal_each_agent_alone_bit_for_bit():
+    """``see_many`` (a whole team's sightings in one call) and the heard-report table give
+    every agent exactly - not just closely - what its own ``BallBelief`` and window give."""
+    team = TeamSightings(AGENTS, OPPONENTS)
+    alone = [BallBelief() for _ in range(AGENTS)]
+    windows = [MultiObjectWindow(OPPONENTS) for _ in range(AGENTS)]
+    stride = 1 + OPPONENTS
+    compared = 0
+    for t, frame in _scenario(5):
+        ids, points = [], []
+        for k, (seen_ball, opp_ids, opp, heard) in enumerate(frame):
+            if seen_ball is not None:
+                ids.append(k * stride)
+                points.append(seen_ball)
+                alone[k].see(t, seen_ball)
+            ids += [k * stride + 1 + int(j) for j in opp_ids]
+            points += list(opp)
+            if len(opp_ids):
+                windows[k].add(t, opp_ids, opp)
+            for xy, age, sender in heard:
+                team.hear(t, k, xy, age, sender)
+                alone[k].hear(t, xy, age, sender)
+        team.see_many(t, np.asarray(ids, dtype=np.int64), np.asarray(points).reshape(-1, 2))
+        beliefs = team.ball_beliefs(t)
+        positions, known = team.all_opponents(t)
+        for k in range(AGENTS):
+            mine = alone[k].belief(t)
+            assert (beliefs[k].source, beliefs[k].age_s, beliefs[k].confidence,
+                    beliefs[k].support) == (mine.source, mine.age_s, mine.confidence,
+                                            mine.support)
+            if mine.position is not None:
+                np.testing.assert_array_equal(beliefs[k].position, mine.position)
+                compared += 1
+            est = windows[k].estimate(t)
+            np.testing.assert_array_equal(known[k], est.known)
+            np.testing.assert_array_equal(positions[k][est.known],
+                                          est.latest_positions()[est.known])
+    assert compared > 300
