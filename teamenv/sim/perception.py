@@ -50,6 +50,7 @@ class StatePerception:
         # Parts that change only with the attack directions, play mode, half or score.
         self._sign_key: tuple | None = None
         self._block_key: tuple | None = None
+        self._buffer: np.ndarray | None = None
 
     def observe(
         self, poses: np.ndarray, velocities: np.ndarray, ball: np.ndarray, fallen: np.ndarray,
@@ -65,7 +66,17 @@ class StatePerception:
         slot; ``heard_texts``: per agent, a tuple of K texts ("" = empty slot)."""
         n, size = len(poses), self.team_size
         team_of = self.team_of
-        rows = np.empty((n, self._width))
+        # A scratch buffer kept between calls (``out`` below is a copy): its constant "present"
+        # column and the play-mode/half/score block are written only when they change.
+        rows = self._buffer
+        if rows is None or len(rows) != n:
+            rows = self._buffer = np.empty((n, self._width))
+            rows[:, self._o_players:self._o_mode].reshape(n, n, PLAYER_DIM)[:, :, 4] = 1.0
+            self._block_key = None
+            # x (or y) of every other player (own team first), then of the ball, then the
+            # ball's velocity component: (n, n + 2), rotated into each body frame at once.
+            self._dx = np.empty((n, n + 2))
+            self._dy = np.empty((n, n + 2))
         key = tuple(attack_sign)
         if key != self._sign_key:
             sign = np.asarray(attack_sign, dtype=float)[team_of]  # (n,)
@@ -81,24 +92,27 @@ class StatePerception:
         rows[:, 5] = velocities[:, 2]
         rows[:, 6] = fallen
 
-        o = self._o_ball
-        bdx, bdy = ball[0] - x, ball[1] - y
-        rows[:, o] = cos_h * bdx + sin_h * bdy
-        rows[:, o + 1] = -sin_h * bdx + cos_h * bdy
-        rows[:, o + 2] = cos_h * ball[2] + sin_h * ball[3]
-        rows[:, o + 3] = -sin_h * ball[2] + cos_h * ball[3]
-
-        # Every other player, own team first, relative to each agent in its body frame.
+        # Every other player (own team first), the ball and the ball's velocity, relative to
+        # each agent in its body frame: x' = c dx + s dy, y' = -s dx + c dy.
         cols = self._cols
-        rel = rows[:, self._o_players:self._o_mode].reshape(n, n, PLAYER_DIM)
+        dx, dy, col_x = self._dx, self._dy, x[:, None]
+        np.subtract(x[cols], col_x, out=dx[:, :n])
+        np.subtract(ball[0], x, out=dx[:, n])
+        dx[:, n + 1] = ball[2]
+        np.subtract(y[cols], y[:, None], out=dy[:, :n])
+        np.subtract(ball[1], y, out=dy[:, n])
+        dy[:, n + 1] = ball[3]
         c, s, ms = cos_h[:, None], sin_h[:, None], -sin_h[:, None]
-        dx = x[cols] - x[:, None]
-        dy = y[cols] - y[:, None]
-        rel[:, :, 0] = c * dx + s * dy
-        rel[:, :, 1] = ms * dx + c * dy
+        along = c * dx + s * dy
+        across = ms * dx + c * dy
+        rel = rows[:, self._o_players:self._o_mode].reshape(n, n, PLAYER_DIM)
+        rel[:, :, 0] = along[:, :n]
+        rel[:, :, 1] = across[:, :n]
+        o = self._o_ball
+        rows[:, o:o + 4:2] = along[:, n:]  # ball x, ball vx
+        rows[:, o + 1:o + 4:2] = across[:, n:]  # ball y, ball vy
         rel[:, :, 2] = _wrap(h[cols] - h[:, None])
         rel[:, :, 3] = fallen[cols]
-        rel[:, :, 4] = 1.0
 
         # Play-mode one-hot, half and scores: rebuilt only when one of them changes.
         modes = (int(mode), int(mode.for_team(1)))
@@ -113,7 +127,7 @@ class StatePerception:
             block[:, g + 3] = own_score[1 - team_of]
             self._block, self._block_key = block, key
             self._team_modes = [modes[t] for t in self._team_list]
-        rows[:, self._o_mode:self._o_heard] = self._block
+            rows[:, self._o_mode:self._o_heard] = self._block
         rows[:, self._o_game] = time_s
         rows[:, self._o_heard:] = heard_info.reshape(n, -1)
 
