@@ -137,7 +137,10 @@ class ProcessPoolBackend:
     ``spawn``) that has imported teamenv's match code and the tournament's teams once (see
     ``start_forkserver``), so a worker starts in milliseconds instead of importing numpy,
     scipy, pymunk and the teams again; each worker looks its teams up once (``warm_up``,
-    which imports any team the server did not) before its first match.
+    which imports any team the server did not) before its first match. The fork server lives
+    as long as the calling process, like the modules that process imported: team code edited
+    on disk after a process's first tournament is seen by a new process (the CLI), not by later
+    tournaments of the same one (the parent has the old code too; versions stay consistent).
 
     A worker that dies (segfault, ``os._exit``, OOM kill) breaks a ProcessPoolExecutor; the
     pool is then rebuilt and the matches that were in flight are replayed one at a time, each
