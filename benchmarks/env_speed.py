@@ -124,7 +124,7 @@ class ReferenceRun:
         space, bodies, players, vel = self.space, self.bodies, self.players, self.vel
         positions = []
         for k in range(self.k, self.k + count):
-            for body, v in zip(players, vel[k % 64]):
+            for body, v in zip(players, vel[k % 64], strict=True):
                 body.velocity = v
             positions = [body.position for body in bodies]
             space.step(0.02)

@@ -22,6 +22,8 @@ REASON_INAUDIBLE = "inaudible"  # `mj`: said at volume 0 (listener -1: nobody he
 _TWO_PI = 2.0 * math.pi
 _new = tuple.__new__  # builds a NamedTuple from a tuple without the Python-level __new__
 _INT = {int}
+# ufunc reductions called directly (ndarray.max/any/sum go through Python wrappers)
+_max, _any, _add = np.maximum.reduce, np.logical_or.reduce, np.add.reduce
 _REAL = {int, float}
 
 
@@ -130,7 +132,8 @@ class Delivery:
         """True when any message was dropped this cycle (cheap: builds no Drop)."""
         if self._dropped:
             return True
-        return self._pending is not None and any(mask.any() for mask, _ in self._pending[1])
+        pending = self._pending
+        return pending is not None and any(_any(mask, axis=None) for mask, _ in pending[1])
 
     def drop_counts(self) -> dict[str, int]:
         """Number of drops per reason, without building the Drop list (cheap, for infos)."""
@@ -290,7 +293,7 @@ class Channel:
         if utterances:
             fast = self._well_formed(utterances)
         if fast:
-            speakers, texts, volumes = map(list, zip(*utterances))
+            speakers, texts, volumes = map(list, zip(*utterances, strict=True))
         elif utterances:
             seen = bytearray(n)
             check = prof.check_message
@@ -398,7 +401,7 @@ class Channel:
         False sends `deliver` through its checks one by one, which name the fault."""
         prof = self.profile
         try:
-            speakers, texts, volumes = zip(*utterances)
+            speakers, texts, volumes = zip(*utterances, strict=True)
         except (TypeError, ValueError):
             return False
         if set(map(type, speakers)) != _INT or len(set(speakers)) != len(speakers):
@@ -450,7 +453,7 @@ class Channel:
         masks = self._masks[:, spk]
         is_self, same = masks[0], masks[1]
         chunks: list[tuple[np.ndarray, str]] = []
-        everyone = dist.max() <= prof.hearing_range_m  # (False for NaN: checked below)
+        everyone = _max(dist, axis=None) <= prof.hearing_range_m  # (False for NaN)
         if everyone:
             in_range = audible = None  # audible: all but self (built below if needed)
             by_class = masks[2:]  # teammates, opponents: all audible
@@ -505,22 +508,22 @@ class Channel:
             if by_class is None:
                 by_class = in_range & masks[2:]  # (2, S, N)
             if cap is not None:
-                ok = by_class & (np.cumsum(by_class, axis=1) <= (self._cap // cap.cost)[:, None])
-                self._cap -= cap.cost * ok.sum(axis=1)
+                ok = by_class & (by_class.cumsum(axis=1) <= (self._cap // cap.cost)[:, None])
+                self._cap -= cap.cost * _add(ok, axis=1)
                 over = by_class ^ ok  # ok is within by_class: the ones over capacity
                 by_class = ok
-                if over.any():
+                if _any(over, axis=None):
                     chunks.append((over[0] | over[1], REASON_CAPACITY))
             # Per listener: own message, then teammates', then opponents', each in arrival
             # order: the transposed (3S, N) stack of those masks lists them in that order.
             blocks = np.concatenate(
                 (is_self[None], by_class) if prof.self_echo else by_class
             ).reshape(-1, n)
-            li, si = np.nonzero(blocks.T)
+            li, si = blocks.T.nonzero()
             if li.size:
                 si %= n_spk
                 counts = np.bincount(li, minlength=n)
-                if counts.max() > prof.max_heard:
+                if _max(counts) > prof.max_heard:
                     within = np.arange(li.size) - (np.cumsum(counts) - counts)[li]
                     keep = within < prof.max_heard
                     over = np.zeros_like(is_self)

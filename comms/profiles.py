@@ -167,7 +167,7 @@ def _batch_pattern(profile: "ChannelProfile") -> Any:
     if not profile.base64_payload:
         if profile.max_chars < 1:
             return re.compile(re.escape(_SEP) + "{0}").fullmatch  # only the empty batch
-        one = "[" + re.escape(profile.charset) + "]{1,%d}" % profile.max_chars
+        one = "[" + re.escape(profile.charset) + f"]{{1,{profile.max_chars}}}"
     else:
         # Padded base64 of 1..payload_bytes bytes, at most max_chars characters, using only
         # characters of the charset: g full groups of 4, then a full, "xxx=" or "xx==" group.
@@ -176,7 +176,7 @@ def _batch_pattern(profile: "ChannelProfile") -> Any:
         pad_ok = "=" in profile.charset
         alts = []
         for g in range(profile.max_chars // 4):
-            lead = d + "{%d}" % (4 * g) if g else ""
+            lead = d + f"{{{4 * g}}}" if g else ""
             if 4 * (g + 1) > profile.max_chars:
                 break
             if 3 * g + 3 <= profile.payload_bytes:

@@ -77,12 +77,16 @@ class ActionParser:
         except KeyError:
             texts = None
         if texts is not None:
-            says = list(zip(rows, texts)) if all(texts) else \
-                [(row, text) for row, text in zip(rows, texts) if text]
+            if not texts:  # no "say" key
+                says = []
+            elif all(texts):
+                says = list(zip(rows, texts, strict=True))
+            else:
+                says = [(row, text) for row, text in zip(rows, texts, strict=True) if text]
         else:
             walk_rows, walks, kick_rows, kicks, says = [], [], [], [], []
             fast_keys = _FAST_KEYS
-            for row, action in zip(rows, actions):
+            for row, action in zip(rows, actions, strict=True):
                 if not fast_keys.issuperset(action):
                     return False
                 if "walk" in action:

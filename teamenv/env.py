@@ -111,6 +111,11 @@ class SoccerParallelEnv(ParallelEnv):
     critics. Infos are empty unless something happened to the agent: ``dropped`` (lenient
     drops of its action), ``beam_refused``, ``message_dropped``, ``goal`` (team that scored).
 
+    ``reset()``/``step()`` return plain ``dict`` subclasses that build their values on first
+    use: state-mode Dict observations (``LazyObservations``: each agent's dict when first
+    looked up) and infos with message drops (``LazyInfos``: the drop lists on first use).
+    Their contents are exactly those of an eager build; pickled or copied they are dicts.
+
     Bad input raises ActionError/MessageError naming agent, field and value when ``strict``
     (the default); ``strict=False`` drops or clips it instead and reports it in infos.
 

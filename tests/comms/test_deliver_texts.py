@@ -20,7 +20,7 @@ def _pairs_as_heard(delivery, n):
     out = [[] for _ in range(n)]
     if delivery.pairs is None:
         return out
-    for li, spk, text, direction, me, mate in zip(*(a.tolist() for a in delivery.pairs)):
+    for li, spk, text, direction, me, mate in zip(*(a.tolist() for a in delivery.pairs), strict=True):
         out[li].append((spk, text, direction, me, mate))
     return out
 

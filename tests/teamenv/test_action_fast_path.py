@@ -1,0 +1,71 @@
+"""Vectorized Dict-action parsing (ActionParser._fill_dict_fast) writes exactly what the
+per-agent path writes, for every mix of keys and rows; anything unusual goes to the per-agent
+path and raises its errors."""
+
+import numpy as np
+import pytest
+
+import teamenv
+from teamenv.errors import ActionError, MessageError
+from teamenv.sim.simulation import Commands
+
+
+def _both(parser, rows, agents, actions):
+    fast, slow = Commands.idle(22), Commands.idle(22)
+    parser.fill(fast, rows, agents, actions, {})
+    for row, agent, action in zip(rows, agents, actions, strict=True):
+        parser._fill_dict(slow, row, agent, action, {})
+    for name in ("walk", "kick_power", "kick_dir", "beam_request", "beam"):
+        assert getattr(fast, name).tobytes() == getattr(slow, name).tobytes(), name
+    assert fast.say == slow.say
+
+
+@pytest.mark.parametrize("keys", [("walk",), ("walk", "kick"), ("walk", "kick", "say"),
+                                  ("say",), ("kick", "say"), ()])
+@pytest.mark.parametrize("rows", ["all", "right", "shuffled"])
+def test_fast_path_writes_what_the_per_agent_path_writes(keys, rows):
+    env = teamenv.parallel_env(team_size=11)
+    env.reset(seed=0)
+    rng = np.random.default_rng(len(keys))
+    agents = list(env.agents)
+    if rows == "right":
+        agents = agents[11:]
+    elif rows == "shuffled":
+        agents = [agents[k] for k in rng.permutation(22)]
+    row_of = [env._row[a] for a in agents]
+    for _ in range(20):
+        actions = []
+        for k, _agent in enumerate(agents):
+            action = {}
+            if "walk" in keys:
+                action["walk"] = rng.uniform(env.parser.walk_low, env.parser.walk_high).astype(
+                    np.float32 if k % 2 else np.float64)
+            if "kick" in keys:
+                action["kick"] = [float(rng.random()), float(rng.uniform(-3, 3))]
+            if "say" in keys:
+                action["say"] = "" if rng.random() < 0.3 else f"m{k}"
+            actions.append(action)
+        _both(env.parser, row_of, agents, actions)
+        # mixed key sets: the first agent drops a key
+        if keys:
+            actions[0] = {key: actions[0][key] for key in keys[:-1]}
+            _both(env.parser, row_of, agents, actions)
+
+
+def test_unusual_input_gets_the_per_agent_errors():
+    env = teamenv.parallel_env(team_size=2)
+    env.reset(seed=0)
+    ok = {"walk": np.zeros(3), "say": "hi"}
+    for bad, error, words in [
+        ({"walk": np.array([np.nan, 0, 0])}, ActionError, "finite"),
+        ({"walk": np.array([99.0, 0, 0])}, ActionError, "out of range"),
+        ({"walk": np.zeros(4)}, ActionError, "shape"),
+        ({"walk": np.zeros(3), "say": "(bad)"}, MessageError, "illegal_character"),
+        ({"walk": np.zeros(3), "say": "x" * 21}, MessageError, "too_long"),
+        ({"walk": np.zeros(3), "say": 7}, MessageError, "must be a str"),
+        ({"walk": np.zeros(3), "jump": 1}, ActionError, "unknown action key"),
+    ]:
+        actions = {a: dict(ok) for a in env.agents}
+        actions["right_2"] = bad
+        with pytest.raises(error, match=words):
+            env.step(actions)
