@@ -508,44 +508,58 @@ def cluster_objects(times: NDArray[np.float64], xy: NDArray[np.float64],
     if noise.all():
         return out
 
-    # cluster scores: recency relative to each object's newest sighting
-    last_of_object = np.full(n_objects, -np.inf)
     runs = _runs(objects)
-    if runs is None:
-        np.maximum.at(last_of_object, objects, times)
-    else:  # sorted by object (the callers' order): one reduceat, the same maxima
-        last_of_object[objects[runs]] = np.maximum.reduceat(times, runs)
-    score_w = weights * _recency(last_of_object[objects] - times, half_life)
-    members = ~noise
-    cl = labels[members]
-    n_clusters = int(cl.max()) + 1
-    cluster_score = np.bincount(cl, score_w[members], n_clusters)
-    by_cluster = np.argsort(cl, kind="stable")
-    cl_runs = _starts(cl[by_cluster])
-    cluster_newest = np.maximum.reduceat(times[members][by_cluster], cl_runs)
-    cluster_object = np.zeros(n_clusters, dtype=np.int64)
-    cluster_object[cl] = objects[members]  # one object per cluster (they are kept apart)
-    cluster_size = np.bincount(cl, minlength=n_clusters)
-    # best per object: largest score, then newest sighting, then lowest label
-    order = np.lexsort((np.arange(n_clusters), -cluster_newest, -cluster_score, cluster_object))
-    best = order[_starts(cluster_object[order])]
-    best_object = cluster_object[best]
-    in_best = np.zeros(n_clusters, dtype=bool)
-    in_best[best] = True
-    out["known"][best_object] = True
-    out["n"][best_object] = cluster_size[best]
-    clustered = np.bincount(objects[members], minlength=n_objects)
-    out["rejected"] = (clustered - out["n"]).astype(np.int64)
+    if runs is not None and not noise.any() and int(labels.max()) + 1 == len(runs):
+        # the usual case: each object's sightings are one cluster (clusters never span
+        # objects): it is the best, numbered like its object's run; the same statistics
+        best_object = objects[runs]
+        best_newest = np.maximum.reduceat(times, runs)
+        best_size = np.diff(runs, append=len(times))
+        out["known"][best_object] = True
+        out["n"][best_object] = best_size
+        obj = objects
+        dt = times - best_newest[labels]
+        w = weights * _recency(-dt, half_life)
+        p = xy
+    else:
+        # cluster scores: recency relative to each object's newest sighting
+        last_of_object = np.full(n_objects, -np.inf)
+        if runs is None:
+            np.maximum.at(last_of_object, objects, times)
+        else:  # sorted by object (the callers' order): one reduceat, the same maxima
+            last_of_object[objects[runs]] = np.maximum.reduceat(times, runs)
+        score_w = weights * _recency(last_of_object[objects] - times, half_life)
+        members = ~noise
+        cl = labels[members]
+        n_clusters = int(cl.max()) + 1
+        cluster_score = np.bincount(cl, score_w[members], n_clusters)
+        by_cluster = np.argsort(cl, kind="stable")
+        cl_runs = _starts(cl[by_cluster])
+        cluster_newest = np.maximum.reduceat(times[members][by_cluster], cl_runs)
+        cluster_object = np.zeros(n_clusters, dtype=np.int64)
+        cluster_object[cl] = objects[members]  # one object per cluster (kept apart)
+        cluster_size = np.bincount(cl, minlength=n_clusters)
+        # best per object: largest score, then newest sighting, then lowest label
+        order = np.lexsort((np.arange(n_clusters), -cluster_newest, -cluster_score,
+                            cluster_object))
+        best = order[_starts(cluster_object[order])]
+        best_object = cluster_object[best]
+        best_newest, best_size = cluster_newest[best], cluster_size[best]
+        in_best = np.zeros(n_clusters, dtype=bool)
+        in_best[best] = True
+        out["known"][best_object] = True
+        out["n"][best_object] = best_size
+        clustered = np.bincount(objects[members], minlength=n_objects)
+        out["rejected"] = (clustered - out["n"]).astype(np.int64)
 
-    # statistics of the best clusters; times relative to the cluster's newest member, and
-    # recency relative to it too (a common factor: the means do not depend on it)
-    sel = np.zeros(len(times), dtype=bool)
-    sel[members] = in_best[cl]
-    obj = objects[sel]
-    newest = cluster_newest[labels[sel]]
-    dt = times[sel] - newest
-    w = weights[sel] * _recency(-dt, half_life)
-    p = xy[sel]
+        # statistics of the best clusters; times relative to the cluster's newest member,
+        # and recency relative to it too (a common factor: the means do not depend on it)
+        sel = np.zeros(len(times), dtype=bool)
+        sel[members] = in_best[cl]
+        obj = objects[sel]
+        dt = times[sel] - cluster_newest[labels[sel]]
+        w = weights[sel] * _recency(-dt, half_life)
+        p = xy[sel]
     total = np.bincount(obj, w, n_objects)[best_object]
     t_mean = np.bincount(obj, w * dt, n_objects)[best_object] / total
     mean = np.column_stack([np.bincount(obj, w * p[:, i], n_objects)[best_object]
@@ -569,7 +583,7 @@ def cluster_objects(times: NDArray[np.float64], xy: NDArray[np.float64],
             np.minimum.at(oldest, k, dt)
         else:
             oldest[k[k_runs]] = np.minimum.reduceat(dt, k_runs)
-        with_velocity = (cluster_size[best] >= 3) & (-oldest >= min_velocity_span) & (s_tt > 0)
+        with_velocity = (best_size >= 3) & (-oldest >= min_velocity_span) & (s_tt > 0)
         velocity = np.full((len(best_object), 2), np.nan)
         velocity[with_velocity] = s_tp[with_velocity] / s_tt[with_velocity][:, None]
         residual = dp - np.where(with_velocity[k][:, None], velocity[k] * ddt[:, None], 0.0)
@@ -577,7 +591,7 @@ def cluster_objects(times: NDArray[np.float64], xy: NDArray[np.float64],
                                      len(best_object)) / total)
         # weighted least squares: var(slope) = s2 * sum(w^2 dt^2) / s_tt^2, with s2 the residual
         # variance per axis (2 parameters fitted per axis: n - 2 degrees of freedom)
-        n_members = cluster_size[best].astype(np.float64)
+        n_members = best_size.astype(np.float64)
         s2 = spread**2 / 2.0 * n_members / np.maximum(n_members - 2.0, 1.0)
         s_wwtt = np.bincount(k, w * w * ddt * ddt, len(best_object))
         velocity_sigma = np.full(len(best_object), np.nan)
@@ -585,8 +599,8 @@ def cluster_objects(times: NDArray[np.float64], xy: NDArray[np.float64],
             s2[with_velocity] * s_wwtt[with_velocity]) / s_tt[with_velocity]
 
     out["positions"][best_object] = mean
-    out["newest_s"][best_object] = cluster_newest[best]
-    out["time_s"][best_object] = cluster_newest[best] + t_mean
+    out["newest_s"][best_object] = best_newest
+    out["time_s"][best_object] = best_newest + t_mean
     out["spread"][best_object] = spread
     out["velocities"][best_object] = velocity
     out["velocity_sigma"][best_object] = velocity_sigma
