@@ -128,6 +128,28 @@ class Delivery:
                 out.extend(map(make, zip(speaker_ids[si].tolist(), li.tolist(), repeat(reason))))
         return self._dropped
 
+    def drop_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The drops of `dropped`, in its order, as arrays (without building Drop objects):
+        speaker and listener (-1: nobody) int arrays, reason an object array of str."""
+        if self._pending is None:
+            drops = self._dropped
+            return (
+                np.array([d.speaker for d in drops], dtype=np.intp),
+                np.array([d.listener for d in drops], dtype=np.intp),
+                np.array([d.reason for d in drops], dtype=object),
+            )
+        speaker_ids, chunks = self._pending
+        illegal = self._dropped
+        speakers = [np.array([d.speaker for d in illegal], dtype=np.intp)]
+        listeners = [np.full(len(illegal), -1, dtype=np.intp)]
+        reasons = [np.array([d.reason for d in illegal], dtype=object)]
+        for mask, reason in chunks:
+            si, li = mask.nonzero()
+            speakers.append(speaker_ids[si])
+            listeners.append(li)
+            reasons.append(np.full(len(li), reason, dtype=object))
+        return np.concatenate(speakers), np.concatenate(listeners), np.concatenate(reasons)
+
     def has_drops(self) -> bool:
         """True when any message was dropped this cycle (cheap: builds no Drop)."""
         if self._dropped:

@@ -542,23 +542,30 @@ class SoccerParallelEnv(ParallelEnv):
 
 def _add_message_drops(infos: dict[str, dict], names: list[str], report: CycleReport) -> None:
     """Put each speaker's ``message_dropped`` list into ``infos`` (a plain dict's storage), in
-    the key order of an eagerly built info: dropped, beam_refused, message_dropped, goal."""
-    get = dict.get
-    lists: dict[str, list] = {}
-    for drop in report.dropped:
-        speaker = names[drop.speaker] if 0 <= drop.speaker < len(names) else None
-        if get(infos, speaker) is not None:
-            lists.setdefault(speaker, []).append(
-                {"listener": names[drop.listener] if drop.listener >= 0 else None,
-                 "reason": drop.reason})
-    for speaker, items in lists.items():
-        info = dict.__getitem__(infos, speaker)
+    the key order of an eagerly built info: dropped, beam_refused, message_dropped, goal. Each
+    list holds the speaker's drops in ``report.dropped`` order, one new dict per drop."""
+    speaker, listener, reason = report.delivery.drop_arrays()
+    if not speaker.size:
+        return
+    order = np.argsort(speaker, kind="stable")  # by speaker, each in report.dropped order
+    speaker = speaker[order]
+    named = np.array([*names, None], dtype=object)  # listener -1 (nobody) -> None
+    drops = [{"listener": who, "reason": why}
+             for who, why in zip(named[listener[order]].tolist(), reason[order].tolist(),
+                                 strict=True)]
+    starts = [0, *(np.flatnonzero(speaker[1:] != speaker[:-1]) + 1).tolist()]
+    ends = [*starts[1:], len(drops)]
+    get, n_names = dict.get, len(names)
+    for index, a, b in zip(speaker[starts].tolist(), starts, ends, strict=True):
+        info = get(infos, names[index]) if 0 <= index < n_names else None
+        if info is None:
+            continue
         if "goal" in info:
             goal = info.pop("goal")
-            info["message_dropped"] = items
+            info["message_dropped"] = drops[a:b]
             info["goal"] = goal
         else:
-            info["message_dropped"] = items
+            info["message_dropped"] = drops[a:b]
 
 
 class LazyInfos(dict):

@@ -54,3 +54,17 @@ def test_deliver_texts_equals_deliver(name, overrides):
         assert da.dropped == db.dropped, cycle
         assert (a.capacities == b.capacities).all()
     assert ra.random() == rb.random()
+
+
+@pytest.mark.parametrize(("name", "overrides"), CASES)
+def test_drop_arrays_list_the_drops_in_order(name, overrides):
+    n = 10
+    channel = make_channel(name, n, np.repeat([0, 1], n // 2), **overrides)
+    rng, data = np.random.default_rng(1), np.random.default_rng(2)
+    for _ in range(50):
+        texts = ["QUJD" if data.random() < 0.9 else "((" for _ in range(n)]
+        d = channel.deliver_texts(texts, data.uniform(-40, 40, (n, 2)), np.zeros(n), rng)
+        speaker, listener, reason = d.drop_arrays()
+        assert list(zip(speaker.tolist(), listener.tolist(), reason.tolist(), strict=True)) \
+            == [tuple(x) for x in d.dropped]
+        assert d.drop_arrays()[0].tolist() == speaker.tolist()  # also once `dropped` is built
