@@ -93,7 +93,7 @@ class Simulation:
         self.n = 2 * team_size
         self.profile = profile
         self.bodies = locomotion.Bodies(profile, self.n)
-        self.world = World(field_spec, physics, self.n, profile.body_radius, profile.mass)
+        self.world = self._new_world()
         self.referee = Referee(field_spec, rules, team_size, physics.cycle_s,
                                profile.body_radius, physics.ball_radius)
         self.team_of = np.repeat([0, 1], team_size)
@@ -113,6 +113,10 @@ class Simulation:
         self._clock = time.perf_counter if self.profile_phases else float
         self.phase_s = dict.fromkeys(SIM_PHASES, 0.0)
 
+    def _new_world(self) -> World:
+        return World(self.field, self.physics, self.n, self.profile.body_radius,
+                     self.profile.mass)
+
     def reset_timings(self) -> None:
         """Zero the per-phase wall-clock accounting."""
         self.phase_s = dict.fromkeys(SIM_PHASES, 0.0)
@@ -130,6 +134,10 @@ class Simulation:
         self.bodies.reset()
         self.referee.reset()
         self.channel.reset()
+        if self.world.stepped:
+            # pymunk keeps contacts and its spatial index across steps: a reused space would
+            # make reset(seed) differ from a fresh env's first episode in the last bits
+            self.world = self._new_world()
         self.referee.place_for_start(self.world)
         self.world.impacts[:] = 0.0
         self._clear_heard()

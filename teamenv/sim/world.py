@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -69,7 +70,8 @@ class World:
         self.space.on_collision(PLAYER, PLAYER, post_solve=self._on_player_impact)
         self.space.on_collision(PLAYER, POST, post_solve=self._on_player_impact)
         self.space.on_collision(BALL, PLAYER, pre_solve=self._on_ball_touch)
-        self._launch_table = self._build_launch_table()
+        self._launch_table = _launch_table(physics)
+        self.stepped = False  # set by the first step (reset builds a new world after that)
         self._poses: np.ndarray | None = None
         self._velocities: np.ndarray | None = None
         self._setup_batch()
@@ -211,6 +213,7 @@ class World:
     def step(self, world_velocity: np.ndarray) -> None:
         """Advance one cycle; players move with ``world_velocity`` (n, 3): vx, vy, omega."""
         dt = self.physics.cycle_s
+        self.stepped = True
         # Collision callbacks add to a list of floats (same additions, same order), copied
         # into ``impacts`` after the step.
         self._impacts = [0.0] * self.n_players
@@ -271,10 +274,15 @@ class World:
         speeds, distances = self._launch_table
         return float(np.interp(distance, distances, speeds))
 
-    def _build_launch_table(self) -> tuple[np.ndarray, np.ndarray]:
-        speeds = np.linspace(0.0, self.physics.ball_max_speed, 241)
-        distances = np.array([roll_distance(s, self.physics) for s in speeds])
-        return speeds, distances
+
+
+@functools.lru_cache(maxsize=16)
+def _launch_table(physics: PhysicsConfig) -> tuple[np.ndarray, np.ndarray]:
+    """(speeds, roll distances) for ``World.launch_speed``; one per physics config (read-only)."""
+    speeds = np.linspace(0.0, physics.ball_max_speed, 241)
+    distances = np.array([roll_distance(s, physics) for s in speeds])
+    speeds.flags.writeable = distances.flags.writeable = False
+    return speeds, distances
 
 
 def rolled_speed(speed: float, physics: PhysicsConfig, dt: float) -> float:
