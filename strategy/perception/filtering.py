@@ -347,23 +347,8 @@ def _exact_dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float6
     w = np.asarray(weights, dtype=np.float64)
     if order is not None:
         w = w[order]
-    pi, pj = _pair_table(int(counts.max()))
-    if len(counts) == 1:
-        m = n * (n - 1) // 2
-        a, b = pi[:m], pj[:m]
-    else:  # group g: the first counts[g] (counts[g] - 1) / 2 pairs of the table
-        per = counts * (counts - 1) // 2
-        total = int(per.sum())
-        offset = np.repeat(np.cumsum(per) - per, per)
-        k = np.arange(total) - offset
-        first = np.repeat(starts, per)
-        a, b = first + pi[k], first + pj[k]
-    rd = np.zeros(len(a))
-    for j in range(pts.shape[1]):
-        c = pts[:, j]
-        d = c[a] - c[b]
-        rd += d * d
-    near = rd <= eps * eps
+    a, b = _group_pairs(starts, counts)
+    near = _near(pts, a, b, eps)
     if near.all():  # every group is a clique (the usual case): one cluster or all noise
         dense = np.add.reduceat(w, starts) >= min_samples  # integer weights: exact sums
         number = np.full(len(starts), -1, dtype=np.int64)
@@ -434,6 +419,61 @@ def _exact_dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float6
         out[order] = labels
         labels = out
     return labels
+
+
+def _group_pairs(starts: NDArray[np.intp], counts: NDArray[np.intp]
+                 ) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    """Every pair ``a < b`` of points within each group (group g: points ``starts[g]`` ..
+    ``starts[g] + counts[g] - 1``), sorted by ``b`` then ``a``."""
+    pi, pj = _pair_table(int(counts.max()))
+    if len(counts) == 1:
+        m = int(counts[0]) * (int(counts[0]) - 1) // 2
+        return starts[0] + pi[:m], starts[0] + pj[:m]
+    # group g: the first counts[g] (counts[g] - 1) / 2 pairs of the table
+    per = counts * (counts - 1) // 2
+    total = int(per.sum())
+    offset = np.repeat(np.cumsum(per) - per, per)
+    k = np.arange(total) - offset
+    first = np.repeat(starts, per)
+    return first + pi[k], first + pj[k]
+
+
+def _near(points: NDArray[np.float64], a: NDArray[np.intp], b: NDArray[np.intp],
+          eps: float) -> NDArray[np.bool_]:
+    """Whether each pair is within ``eps``: sklearn's euclidean reduced distance (squares
+    summed over the coordinates in order) against ``eps * eps``."""
+    rd = np.zeros(len(a))
+    for j in range(points.shape[1]):
+        c = points[:, j]
+        d = c[a] - c[b]
+        rd += d * d
+    return rd <= eps * eps
+
+
+def clique_means(times: NDArray[np.float64], xy: NDArray[np.float64],
+                 objects: NDArray[np.int64], eps: float, half_life: float
+                 ) -> dict[str, NDArray] | None:
+    """``cluster_objects``'s ``n``, ``positions`` and ``newest_s`` for unit weights and
+    ``min_samples`` 1 when every object's sightings lie within ``eps`` of each other (one
+    cluster each: the usual heard reports), with the same arithmetic, hence the same bits;
+    None otherwise. ``objects`` must be sorted, non-empty and cover ``0..max`` (the rows),
+    ``times`` sorted within each object."""
+    n = len(times)
+    starts = _starts(objects)
+    counts = np.diff(starts, append=n)
+    if len(starts) != int(objects[-1]) + 1 or objects[0] != 0:
+        return None
+    if counts.max() > 1:
+        a, b = _group_pairs(starts, counts)
+        if not _near(xy, a, b, eps).all():
+            return None
+    newest = np.maximum.reduceat(times, starts)
+    dt = times - newest[objects]
+    w = _recency(-dt, half_life)  # = unit weights * recency (x * 1.0 is x)
+    total = np.bincount(objects, w, len(starts))
+    mean = np.column_stack([np.bincount(objects, w * xy[:, i], len(starts))
+                            for i in (0, 1)]) / total[:, None]
+    return {"n": counts.astype(np.int64), "positions": mean, "newest_s": newest}
 
 
 def _runs(keys: NDArray[np.int64]) -> NDArray[np.intp] | None:

@@ -23,6 +23,7 @@ from strategy.perception.filtering import (
     FilterParams,
     MultiEstimate,
     MultiObjectWindow,
+    clique_means,
     cluster_objects,
 )
 
@@ -195,9 +196,13 @@ class TeamSightings:
             r, times = r[order], times[order]
             xy = self._heard_xy[src[order], c[order]]
             counts = np.bincount(r, minlength=len(todo)).tolist()
-            stats = cluster_objects(times, xy, np.ones(len(times)), r.astype(np.int64),
-                                    len(todo), p.heard_eps_m, 1, p.recency_half_life_s,
-                                    np.inf)
+            objects = r.astype(np.int64)
+            # the usual case first: every agent's reports agree within heard_eps_m (one
+            # cluster each; the same bits as the clustering, which handles the rest)
+            stats = clique_means(times, xy, objects, p.heard_eps_m, p.recency_half_life_s)
+            if stats is None:
+                stats = cluster_objects(times, xy, np.ones(len(times)), objects, len(todo),
+                                        p.heard_eps_m, 1, p.recency_half_life_s, np.inf)
             n_members = stats["n"].tolist()
             newest = stats["newest_s"].tolist()
             for row, k in enumerate(todo):

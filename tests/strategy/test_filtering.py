@@ -471,3 +471,32 @@ def test_numpy_dbscan_labels_like_sklearn_dbscan():
     np.testing.assert_array_equal(
         _dbscan_labels(pts, w, 0.5, 3),
         DBSCAN(eps=0.5, min_samples=3, algorithm="ball_tree").fit(pts, sample_weight=w).labels_)
+
+
+def test_clique_means_equal_the_clustering_bit_for_bit():
+    """The heard reports' shortcut (every object's points within eps: one cluster each)
+    gives cluster_objects' n, positions and newest_s exactly, and declines otherwise."""
+    from strategy.perception.filtering import clique_means, cluster_objects
+
+    rng = np.random.default_rng(9)
+    used = declined = 0
+    for _ in range(300):
+        rows = []
+        for obj in range(int(rng.integers(1, 8))):
+            count = int(rng.integers(1, 11))
+            times = np.sort(rng.uniform(0.0, 2.0, count))
+            xy = rng.normal(0.0, rng.choice([0.2, 0.8]), (count, 2)) + 3.0 * obj
+            rows += [(obj, t, *p) for t, p in zip(times, xy, strict=True)]
+        a = np.array(rows)
+        times, xy, objects = a[:, 1].copy(), a[:, 2:4].copy(), a[:, 0].astype(np.int64)
+        got = clique_means(times, xy, objects, 1.0, 0.3)
+        if got is None:
+            declined += 1
+            continue
+        used += 1
+        ref = cluster_objects(times, xy, np.ones(len(times)), objects, int(objects[-1]) + 1,
+                              1.0, 1, 0.3, math.inf)
+        for name, value in got.items():
+            np.testing.assert_array_equal(value, ref[name], err_msg=name)
+            assert value.dtype == ref[name].dtype
+    assert used > 50 and declined > 50
