@@ -82,6 +82,8 @@ class ActionParser:
             elif all(texts):
                 says = list(zip(rows, texts, strict=True))
             else:
+                if any(not (text is None or type(text) is str) for text in texts if not text):
+                    return False  # a falsy non-str (0, b"", []): the per-agent path rejects it
                 says = [(row, text) for row, text in zip(rows, texts, strict=True) if text]
         else:
             walk_rows, walks, kick_rows, kicks, says = [], [], [], [], []
@@ -98,6 +100,8 @@ class ActionParser:
                 text = action.get("say")
                 if text:
                     says.append((row, text))
+                elif not (text is None or type(text) is str):
+                    return False  # a falsy non-str: the per-agent path rejects it
         try:
             walk = np.asarray(walks, dtype=float).reshape(len(walks), 3)
             kick = np.asarray(kicks, dtype=float).reshape(len(kicks), 2)

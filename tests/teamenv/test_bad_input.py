@@ -133,3 +133,18 @@ def test_spaces_for_unknown_agent():
     env = make_env()
     with pytest.raises(ActionError, match="left_7"):
         env.action_space("left_7")
+
+
+@pytest.mark.parametrize("text", [0, b"", False, []])
+def test_falsy_non_text_say_is_rejected_also_when_every_agent_talks(text):
+    # the batched path for many agents must reject what the per-agent path rejects
+    env = make_env()
+    actions = {agent: {"walk": GOOD["walk"], "say": "ok"} for agent in env.agents}
+    actions["right_1"] = {"walk": GOOD["walk"], "say": text}
+    with pytest.raises(MessageError, match="right_1.*say.*must be a str"):
+        env.step(actions)
+    mixed = {agent: {"say": "ok"} for agent in env.agents}  # keys differ from agent to agent
+    mixed["left_1"] = {"walk": GOOD["walk"]}
+    mixed["right_1"] = {"say": text}
+    with pytest.raises(MessageError, match="right_1.*say.*must be a str"):
+        env.step(mixed)
