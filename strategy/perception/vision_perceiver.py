@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from strategy.geometry import BallRoll, to_team
+from strategy.geometry import BallRoll
 from strategy.perception.ball_belief import BallEstimate
 from strategy.perception.filtering import FilterParams
 from strategy.perception.localization import BatchLocalizer, LocalizationParams
@@ -148,10 +148,27 @@ class VisionPerceiver:
         mates = self.mate_xy.copy()
         present = now - self.mate_time <= self.params.teammate_max_age_s
         fallen = self.mate_fallen.copy()
+        velocities = self._velocities(obs, poses[index])
         return {agent: self._world_model(k, o, poses[k], spreads[k], balls[k], mates[k],
                                          present[k], fallen[k], opponents[k],
-                                         opponents_known[k], heard)
-                for agent, k, o, heard in zip(observations, index, obs, texts, strict=True)}
+                                         opponents_known[k], heard, velocity)
+                for agent, k, o, heard, velocity in zip(observations, index, obs, texts,
+                                                        velocities, strict=True)}
+
+    def _velocities(self, obs: list[Mapping[str, Any]],
+                    poses: NDArray[np.float64]) -> NDArray:
+        """(A, 2) each agent's walking velocity in the team frame: its odometry turned by its
+        believed heading, per cycle_s; ``strategy.geometry.to_team`` of the odometry's own
+        dtype (float32 from the env: the cosine and sine are rounded to it, as there)."""
+        odometry = np.stack([np.asarray(o["odometry"]) for o in obs])
+        if odometry.dtype.kind != "f":  # integers: Python's float arithmetic, as to_team
+            odometry = odometry.astype(np.float64)
+        headings = poses[:, 2].tolist()
+        c = np.array([math.cos(h) for h in headings]).astype(odometry.dtype, copy=False)
+        s = np.array([math.sin(h) for h in headings]).astype(odometry.dtype, copy=False)
+        forward, left = odometry[:, 0], odometry[:, 1]
+        return np.stack((c * forward - s * left, s * forward + c * left), axis=1) / \
+            self.cycle_s
 
     def _see(self, rows: list[int], seen: list[Mapping[str, Any]], poses: NDArray[np.float64],
              now: float) -> None:
@@ -229,7 +246,7 @@ class VisionPerceiver:
                      spread: float, ball: BallEstimate, mates: NDArray[np.float64],
                      present: NDArray[np.bool_], fallen: NDArray[np.bool_],
                      opponents: NDArray[np.float64], opponents_known: NDArray[np.bool_],
-                     heard: list[str]) -> WorldModel:
+                     heard: list[str], velocity: NDArray) -> WorldModel:
         """Agent ``k``'s world model; ``mates``, ``present``, ``fallen`` are its rows of
         this cycle's copies (written into), the opponents its rows of this estimate's."""
         mode = _MODES.get(int(o["play_mode"])) or PlayMode(int(o["play_mode"]))
@@ -245,8 +262,6 @@ class VisionPerceiver:
         mates[k] = pose[:2]
         present[k] = True
         fallen[k] = bool(o["body"][0] > 0.5)
-        odo = o["odometry"]
-        velocity = np.array(to_team(odo[0], odo[1], pose[2])) / self.cycle_s
         game = o["game"]
         return WorldModel(
             k, pose[:2].copy(), float(pose[2]), velocity, fallen[k], ball_xy, ball_v, mates,
