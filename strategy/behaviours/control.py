@@ -8,7 +8,7 @@ drive a client of the league's server.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -75,8 +75,11 @@ class ControlRequest:
 
     def to_action(self, low: NDArray[np.float64], high: NDArray[np.float64]) -> dict[str, Any]:
         """The env's Dict-form action; the walk command is clipped to [low, high]."""
-        walk = np.minimum(np.maximum(self.walk, low), high)
-        action: dict[str, Any] = {"walk": walk}
+        return {"walk": np.minimum(np.maximum(self.walk, low), high), **self._extras()}
+
+    def _extras(self) -> dict[str, Any]:
+        """The action's entries other than the walk (kick, beam, say)."""
+        action: dict[str, Any] = {}
         if self.kick is not None:
             action["kick"] = np.array([min(1.0, max(0.0, self.kick[0])), self.kick[1]])
         if self.beam is not None:
@@ -85,6 +88,18 @@ class ControlRequest:
         if self.say:
             action["say"] = self.say
         return action
+
+
+def team_actions(requests: Mapping[str, ControlRequest], low: NDArray[np.float64],
+                 high: NDArray[np.float64]) -> dict[str, dict[str, Any]]:
+    """``{agent: request.to_action(low, high)}`` with the team's pending walks computed
+    together (``resolve_walks``) and every walk clipped in one pass (the same values)."""
+    resolve_walks(list(requests.values()))
+    if not requests:
+        return {}
+    walks = np.minimum(np.maximum(np.array([r.walk for r in requests.values()]), low), high)
+    return {agent: {"walk": walk, **request._extras()}
+            for walk, (agent, request) in zip(walks, requests.items())}
 
 
 def resolve_walks(requests: Sequence[ControlRequest]) -> None:

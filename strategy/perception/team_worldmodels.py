@@ -73,6 +73,9 @@ def team_world_models(observations: Mapping[str, Mapping[str, Any]],
     mates_fallen[every, me_rows] = fallen_self
     opponents_present = players[:, n:, 4] > 0.5
     opponents_fallen = players[:, n:, 3] > 0.5
+    # what WorldModel.obstacle_rows masks: every present player but oneself
+    obstacle_mask = np.concatenate((present, opponents_present), axis=1)
+    obstacle_mask[every, me_rows] = False
     modes = [int(observations[agent]["play_mode"]) for agent in agents]
     # belief keys: everything but the own pose and the texts heard, as bytes (one row each)
     keys = np.concatenate((
@@ -105,7 +108,7 @@ def team_world_models(observations: Mapping[str, Mapping[str, Any]],
             heard=heard[a] if heard is not None else tuple(heard_texts(obs)), field=field,
             roll=roll,
             belief_key=keys[a].tobytes(), ball_age_s=0.0, pose_spread_m=0.0,
-            _players=rows[:count])
+            _players=rows[:count], _obstacle_mask=obstacle_mask[a])
         if ball_rest:  # the same pure function of the same ball: computed once per team
             ball_key = rows[count + 1:].tobytes()
             rest = rests.get(ball_key)

@@ -216,10 +216,12 @@ class WorldModel:
     def obstacle_rows(self, exclude_self: bool = True
                       ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
         """(every player row: teammates then opponents, the mask of the present ones but
-        oneself): ``obstacles() == rows[mask]``."""
-        mask = np.concatenate((self.teammates_present, self.opponents_present))
-        if exclude_self:
-            mask[self.me] = False
+        oneself): ``obstacles() == rows[mask]``. Do not modify the mask."""
+        mask = self.__dict__.get("_obstacle_mask") if exclude_self else None
+        if mask is None:  # not precomputed by team_world_models
+            mask = np.concatenate((self.teammates_present, self.opponents_present))
+            if exclude_self:
+                mask[self.me] = False
         both = self.__dict__.get("_players")
         if both is None:
             both = np.concatenate((self.teammates, self.opponents))

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from strategy.behaviours.control import resolve_walks
+from strategy.behaviours.control import team_actions
 from strategy.behaviours.skills import Skills
 from strategy.geometry import BallRoll
 from strategy.perception.team_worldmodels import team_world_models
@@ -77,8 +77,8 @@ class FullTeam:
             beliefs = team_world_models(observations, self.index, self.context.field,
                                         self.skills.ball_roll, ball_rest=True)
             requests = {agent: self.players[agent].decide(wm) for agent, wm in beliefs.items()}
-            resolve_walks(list(requests.values()))  # the team's walk commands in one pass
-            return {agent: r.to_action(self.low, self.high) for agent, r in requests.items()}
+            # the team's walk commands in one pass, clipped in one pass
+            return team_actions(requests, self.low, self.high)
         beliefs = self.perceiver.update(observations)
         requests = {}
         for agent, wm in beliefs.items():
@@ -86,5 +86,4 @@ class FullTeam:
             request = requests[agent] = player.decide(wm, self.perceiver.reports[player.me])
             if request.beam is not None:
                 self.perceiver.beamed(player.me, request.beam)
-        resolve_walks(list(requests.values()))
-        return {agent: r.to_action(self.low, self.high) for agent, r in requests.items()}
+        return team_actions(requests, self.low, self.high)

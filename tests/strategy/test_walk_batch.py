@@ -68,3 +68,19 @@ def test_resolve_walks_fills_every_pending_request():
         assert request.walk.tobytes() == goal.command().tobytes()
     with pytest.raises(AttributeError):
         ControlRequest().not_a_field  # noqa: B018
+
+
+def test_team_actions_equal_each_request_to_action():
+    from strategy.behaviours.control import team_actions
+
+    goals = _goals(np.random.default_rng(3), PARAMS[0])
+    low, high = np.array([-0.5, -0.2, -1.0]), np.array([0.8, 0.2, 1.0])
+    requests = {f"a{k}": ControlRequest.walking(g, "go_to") for k, g in enumerate(goals)}
+    requests["kicker"] = ControlRequest(np.array([2.0, -1.0, 0.3]), kick=(1.5, 0.2), say="x")
+    requests["beamer"] = ControlRequest(beam=(-3.0, 1.0, 0.0))
+    together = team_actions(requests, low, high)
+    for agent, request in requests.items():
+        alone = request.to_action(low, high)
+        assert list(together[agent]) == list(alone)
+        for key, value in alone.items():
+            assert np.asarray(together[agent][key]).tobytes() == np.asarray(value).tobytes()
