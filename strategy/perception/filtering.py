@@ -5,8 +5,9 @@ In ``vision`` mode an agent sees the ball and other players only inside its view
 is now and then wrong. A mean of recent sightings would be dragged by those wrong ones; the
 seed's answer is to keep a short window of sightings per object and cluster it with DBSCAN:
 the dense cluster is the object, isolated points are noise. This module does that with
-DBSCAN's labels exactly as scikit-learn's ``DBSCAN`` gives them (computed with numpy,
-``_exact_dbscan_labels``, tested label for label against sklearn; sklearn itself only for
+DBSCAN's labels exactly as scikit-learn's ``DBSCAN`` gives them (``_exact_dbscan_labels``:
+the within-eps pairs and core points with numpy, the clusters with SciPy's
+``connected_components``; tested label for label against sklearn, which itself runs for
 non-integer weights) and numpy:
 
 - ``SightingWindow``: the window of one object (the ball), ``estimate(now_s)`` ->
@@ -62,6 +63,8 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 
 from teamenv.config import build_config
 from teamenv.errors import ConfigError, TeamEnvError
@@ -371,31 +374,17 @@ def _exact_dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float6
         core = 1 + np.bincount(a, minlength=n) + np.bincount(b, minlength=n) >= min_samples
     else:
         core = w + np.bincount(a, w[b], n) + np.bincount(b, w[a], n) >= min_samples
-    # components of the core points, each named by its first (smallest) index: every core
-    # point first points to its smallest linked neighbour below it (the pairs come sorted by
-    # their larger index, then the smaller, so that is the first pair of its run), pointers
-    # are followed to the end, and while a linked pair ends in two different roots the larger
-    # root is hooked under the smaller (roots only decrease, so this ends; a root is the
-    # smallest point of its tree, hence of its component)
+    # components of the core points (SciPy's connected_components over the core-core
+    # pairs; a non-core point is a component of its own), each named by its first
+    # (smallest) point, as sklearn numbers its clusters
     big = n
     linked = core[a] & core[b]
-    la, lb = a[linked], b[linked]
-    parent = np.arange(n)
-    if len(lb):
-        heads = _starts(lb)
-        parent[lb[heads]] = la[heads]
-        while True:
-            while True:
-                jumped = parent[parent]
-                if np.array_equal(jumped, parent):
-                    break
-                parent = jumped
-            ra, rb = parent[la], parent[lb]
-            split = ra != rb
-            if not split.any():
-                break
-            np.minimum.at(parent, np.maximum(ra[split], rb[split]),
-                          np.minimum(ra[split], rb[split]))
+    graph = coo_matrix((np.ones(int(linked.sum()), dtype=np.int8), (a[linked], b[linked])),
+                       shape=(n, n))
+    count, component = connected_components(graph, directed=False)
+    first = np.full(count, big)
+    np.minimum.at(first, component, np.arange(n))
+    parent = first[component]
     root = np.where(core, parent, big)
     # a border point: the first cluster among its core neighbours (clusters are numbered
     # in the order of their first point, so the smallest root)
