@@ -153,12 +153,19 @@ def walk_command(position: ArrayLike, heading: float, target: ArrayLike,
         local_x, local_y = to_body(dx, dy, heading)
         turn = 0.0 if face_angle is None else wrap_angle(face_angle - heading)
         return np.array([v * local_x / dist, v * local_y / dist, params.turn_gain * turn])
-    theta = direction_to(p, t, obstacles, params)
+    return walk_along(direction_to(p, t, obstacles, params), heading, v, params)
+
+
+def walk_along(theta: float, heading: float, speed: float,
+               params: NavigationParams) -> NDArray[np.float64]:
+    """The command that walks in team-frame direction ``theta`` at up to ``speed``: turn on
+    the spot when it is more than ``turn_in_place_rad`` off the heading, else walk forward
+    (slower the further off, a little side-step) while turning towards it."""
     error = wrap_angle(theta - heading)
     turn = params.turn_gain * error
     if abs(error) > params.turn_in_place_rad:
         return np.array([0.0, 0.0, turn])
     # Forward speed falls off with the heading error (cos), a little side-step helps.
-    forward = v * max(0.0, math.cos(error))
-    side = v * math.sin(error) * 0.3
+    forward = speed * max(0.0, math.cos(error))
+    side = speed * math.sin(error) * 0.3
     return np.array([forward, side, turn])

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from strategy.behaviours.navigation import NavigationParams, walk_command
+from strategy.behaviours.navigation import NavigationParams, walk_along, walk_command
 from strategy.geometry import to_body, wrap_angle
 
 _THIRD_PI = math.pi / 3
@@ -163,10 +163,4 @@ def _follow_field(row: tuple, push: NDArray[np.float64] | None,
             theta = straight + math.copysign(_THIRD_PI, error if error != 0 else 1.0)
     else:
         theta = straight
-    error = wrap_angle(theta - heading)
-    turn = params.turn_gain * error
-    if abs(error) > params.turn_in_place_rad:
-        return np.array([0.0, 0.0, turn])
-    forward = v * max(0.0, math.cos(error))
-    side = v * math.sin(error) * 0.3
-    return np.array([forward, side, turn])
+    return walk_along(theta, heading, v, params)
