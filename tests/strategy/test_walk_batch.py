@@ -84,3 +84,15 @@ def test_team_actions_equal_each_request_to_action():
         assert list(together[agent]) == list(alone)
         for key, value in alone.items():
             assert np.asarray(together[agent][key]).tobytes() == np.asarray(value).tobytes()
+
+
+def test_pending_request_copies_and_pickles_still_pending():
+    import copy
+    import pickle
+
+    goal = _goals(np.random.default_rng(4), PARAMS[0])[5]
+    request = ControlRequest.walking(goal, "go_to")
+    for clone in (copy.deepcopy(request), pickle.loads(pickle.dumps(request))):
+        assert clone.pending and clone.behaviour == "go_to"
+        assert clone.walk.tobytes() == goal.command().tobytes()
+    assert request.pending
