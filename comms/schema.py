@@ -1,5 +1,6 @@
 """Declarative message schemas: typed fields packed into bits, bits into a legal say text."""
 
+import functools
 import keyword
 import math
 import operator
@@ -28,6 +29,21 @@ def _check_name(name: Any, what: str) -> str:
         )
     return name
 
+
+
+@functools.lru_cache(maxsize=None)
+def record_class(name: str, names: tuple[str, ...]) -> type:
+    """The namedtuple class of a schema's records, one per (name, fields) in a process.
+
+    Built at run time, so pickle could not find it by name: its records pickle (and copy) as
+    a call that rebuilds them through this function, in any process."""
+    cls = namedtuple(name, names)  # noqa: PYI024 - built at runtime
+    cls.__reduce__ = lambda self: (_rebuild_record, (name, names, tuple(self)))
+    return cls
+
+
+def _rebuild_record(name: str, names: tuple[str, ...], values: tuple) -> Any:
+    return record_class(name, names)._make(values)
 
 class Field:
     """A typed message field: maps its values to raw integers 0..cardinality-1 and back."""
@@ -401,8 +417,18 @@ class Schema:
         self._tag_size = sizes[0] if tag_bits else 1
         self._n_fields = len(fields)
         self._names = tuple(names)
-        self.Record = namedtuple(name, names)  # noqa: PYI024 - built at runtime
+        self.Record = record_class(name, tuple(names))
         self._cache: dict[str, Any] = {}
+
+    def __getstate__(self) -> dict[str, Any]:
+        # the Record class is built at run time: pickled as its name and fields
+        state = self.__dict__.copy()
+        state["Record"] = (self.Record.__name__, self.Record._fields)
+        return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__dict__.update(state)
+        self.Record = record_class(*state["Record"])
 
     # ------------------------------------------------------------ properties
     @property

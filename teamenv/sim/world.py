@@ -100,6 +100,19 @@ class World:
             fields.ANGULAR_VELOCITY
         self._vel_fields = fields.VELOCITY | fields.ANGULAR_VELOCITY
 
+    # -- copying -------------------------------------------------------------------------
+    def __getstate__(self) -> dict:
+        # pymunk pickles and copies its space, bodies, shapes and collision handlers; the
+        # batch-API buffers are C memory that does not pickle: dropped and made anew
+        state = self.__dict__.copy()
+        for name in ("_batch", "_batch_set"):
+            state.pop(name, None)
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        self._setup_batch()
+
     # -- geometry --------------------------------------------------------------------------
     def _add_static_geometry(self) -> None:
         f, static = self.field, self.space.static_body
