@@ -268,7 +268,13 @@ def _rounded(values: NDArray[np.floating], r: float = BELIEF_RESOLUTION_M) -> ND
 
 def shared(memo: dict | None, name: Hashable, wm: WorldModel, compute: Callable[[], T]) -> T:
     """``compute()``, cached in ``memo`` under ``name`` and the agent's beliefs: teammates
-    who believe the same compute a team-wide fact once. Callers must not modify the result."""
+    who believe the same compute a team-wide fact once. A belief without a key (``vision``
+    mode: nobody else believes exactly this) keeps its facts to itself, computed once per
+    world model. Callers must not modify the result."""
     if not wm.belief_key:
-        return compute()
+        facts = wm.__dict__.setdefault("_facts", {})  # frozen: bypass __setattr__
+        hit = facts.get(name, facts)
+        if hit is facts:
+            hit = facts[name] = compute()
+        return hit
     return memoized(memo, (name, wm.belief_key), compute)

@@ -32,12 +32,15 @@ def test_shared_computes_once_per_belief_and_separately_for_different_ones():
     a1 = world(ball=(1.0, 0.0))
     a2 = world(ball=(1.0, 0.0), position=(0.5, 0.5))
     b = world(ball=(2.0, 0.0))
-    # hand-built models carry no key: nothing is shared
+    # hand-built models carry no key: nothing is shared, each keeps its facts to itself
     assert shared(memo, "x", a1, lambda: fact(a1)) == 1.0 and not memo
-    keyed = [WorldModel(**{**m.__dict__, "belief_key": m.ball.tobytes()}) for m in (a1, a2, b)]
+    assert shared(memo, "x", a1, lambda: fact(a1)) == 1.0 and len(calls) == 1
+    assert shared(memo, "x", a2, lambda: fact(a2)) == 1.0 and len(calls) == 2
+    keyed = [WorldModel(**{**{k: v for k, v in m.__dict__.items() if not k.startswith("_")},
+                           "belief_key": m.ball.tobytes()}) for m in (a1, a2, b)]
     got = [shared(memo, "x", m, lambda m=m: fact(m)) for m in keyed]
     assert got == [1.0, 1.0, 2.0]
-    assert len(calls) == 3  # one unkeyed, then one per distinct belief
+    assert len(calls) == 4  # one per unkeyed model, then one per distinct belief
 
 
 def test_shared_caches_none_results_too():
