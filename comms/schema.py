@@ -31,7 +31,7 @@ def _check_name(name: Any, what: str) -> str:
 
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def record_class(name: str, names: tuple[str, ...]) -> type:
     """The namedtuple class of a schema's records, one per (name, fields) in a process.
 

@@ -99,7 +99,7 @@ def team_actions(requests: Mapping[str, ControlRequest], low: NDArray[np.float64
         return {}
     walks = np.minimum(np.maximum(np.array([r.walk for r in requests.values()]), low), high)
     return {agent: {"walk": walk, **request._extras()}
-            for walk, (agent, request) in zip(walks, requests.items())}
+            for walk, (agent, request) in zip(walks, requests.items(), strict=True)}
 
 
 def resolve_walks(requests: Sequence[ControlRequest]) -> None:
@@ -108,5 +108,5 @@ def resolve_walks(requests: Sequence[ControlRequest]) -> None:
     from strategy.behaviours.walk_batch import walk_commands
 
     pending = [r for r in requests if "walk" not in r.__dict__]
-    for request, walk in zip(pending, walk_commands([r.goal for r in pending])):
+    for request, walk in zip(pending, walk_commands([r.goal for r in pending]), strict=True):
         request.__dict__["walk"] = walk

@@ -9,8 +9,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from strategy.behaviours.control import ControlRequest
-from strategy.behaviours.walk_batch import WalkGoal
 from strategy.behaviours.skills import Skills
+from strategy.behaviours.walk_batch import WalkGoal
 from strategy.geometry import wrap_angle
 from strategy.perception.worldmodel import WorldModel
 

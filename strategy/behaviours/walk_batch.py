@@ -97,7 +97,7 @@ def walk_commands(goals: Sequence[WalkGoal]) -> list[NDArray[np.float64]]:
         field.append((i, p0, p1, t0, t1, dist, v, heading))
     if field:
         pushes = _repulsions([goals[row[0]] for row in field], [row[5] for row in field], params)
-        for row, push in zip(field, pushes):
+        for row, push in zip(field, pushes, strict=True):
             out[row[0]] = _follow_field(row, push, params)
     return out  # type: ignore[return-value]
 
@@ -108,7 +108,7 @@ def _repulsions(goals: Sequence[WalkGoal], d_targets: Sequence[float],
     near: the distance tests for all goals in one pass, each sum over its own near rows."""
     shapes = {g.players.shape for g in goals if g.avoid is not None}
     if len(shapes) != 1:  # mixed belief sizes (never in one team): one by one
-        return [_repulsion_alone(g, d, params) for g, d in zip(goals, d_targets)]
+        return [_repulsion_alone(g, d, params) for g, d in zip(goals, d_targets, strict=True)]
     rows = [k for k, g in enumerate(goals) if g.avoid is not None]
     players = np.array([goals[k].players for k in rows])            # (B, M, 2)
     mask = np.array([goals[k].avoid for k in rows])                 # (B, M)

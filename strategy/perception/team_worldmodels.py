@@ -18,8 +18,8 @@ import numpy as np
 
 from strategy.geometry import BallRoll
 from strategy.perception.worldmodel import BELIEF_RESOLUTION_M, WorldModel, _rounded, heard_texts
-from teamenv.field import FieldSpec
 from teamenv import PlayMode
+from teamenv.field import FieldSpec
 
 _new_model = object.__new__
 _MODES = {int(m): m for m in PlayMode}
@@ -152,8 +152,8 @@ def _heard(observations: Mapping[str, Mapping[str, Any]],
     if info.ndim != 3 or info.shape[2] < 3:
         return None
     ok = ((info[:, :, 0] > 0.5) & ((info[:, :, 1] > 0.5) | (info[:, :, 2] > 0.5))).tolist()
-    return [tuple(t for t, good in zip(said, fine) if t and good)
-            for said, fine in zip(texts, ok)]
+    return [tuple(t for t, good in zip(said, fine, strict=False) if t and good)
+            for said, fine in zip(texts, ok, strict=True)]
 
 
 def _one_by_one(observations, index, field, roll, resolution) -> dict[str, WorldModel]:

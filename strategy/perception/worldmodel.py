@@ -61,7 +61,7 @@ def heard_texts(obs: Mapping[str, Any]) -> list[str]:
     if not len(info):
         return []
     ok = ((info[:, 0] > 0.5) & ((info[:, 1] > 0.5) | (info[:, 2] > 0.5))).tolist()
-    return [text for text, good in zip(texts, ok) if text and good]
+    return [text for text, good in zip(texts, ok, strict=False) if text and good]
 
 
 def world_view(players: ArrayLike, ball: ArrayLike, opponents: ArrayLike | None = None,

@@ -10,8 +10,8 @@ from typing import Any
 import numpy as np
 
 from strategy.geometry import to_body, wrap_angle
-from strategy.perception.vision_perceiver import VisionPerceiver
 from strategy.perception.team_worldmodels import team_world_models
+from strategy.perception.vision_perceiver import VisionPerceiver
 from strategy.perception.worldmodel import WorldModel
 from teamenv.teams import TeamContext
 

@@ -35,7 +35,7 @@ def test_batched_world_models_equal_one_by_one(resolution):
     index = {a: k for k, a in enumerate(left)}
     roll = BallRoll()
     low, high = env.parser.walk_low, env.parser.walk_high
-    for step in range(400):
+    for _ in range(400):
         mine = {a: obs[a] for a in left}
         batched = team_world_models(mine, index, env.field, roll, resolution,
                                     ball_rest=resolution is not None)

@@ -40,7 +40,7 @@ def test_batched_commands_equal_one_by_one(params):
     for _ in range(300):
         goals = _goals(rng, params)
         batched = walk_commands(goals)
-        for goal, command in zip(goals, batched):
+        for goal, command in zip(goals, batched, strict=True):
             alone = walk_command(goal.position, goal.heading, goal.target, goal.obstacles(),
                                  params, face=goal.face, speed=goal.speed)
             assert command.dtype == alone.dtype and command.tobytes() == alone.tobytes()
@@ -64,7 +64,7 @@ def test_resolve_walks_fills_every_pending_request():
     requests = [ControlRequest.walking(g, "go_to") for g in goals] + [ControlRequest()]
     resolve_walks(requests)
     assert not any(r.pending for r in requests)
-    for goal, request in zip(goals, requests):
+    for goal, request in zip(goals, requests[:-1], strict=True):
         assert request.walk.tobytes() == goal.command().tobytes()
     with pytest.raises(AttributeError):
         ControlRequest().not_a_field  # noqa: B018
