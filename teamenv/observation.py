@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any, Mapping
+from typing import Any
 
 import numpy as np
 
@@ -50,7 +51,8 @@ _new_view = object.__new__
 _MODES = {int(m): m for m in PlayMode}
 
 
-def _play_mode(value: Any) -> PlayMode:
+def play_mode_of(value: Any) -> PlayMode:
+    """The ``PlayMode`` of an observation's ``play_mode`` entry (an int-like)."""
     try:
         return _MODES[int(value)]
     except KeyError:
@@ -85,7 +87,7 @@ def team_frame(obs: Mapping[str, Any]) -> TeamView:
         ball_velocity=np.array((c * bvx - s * bvy, s * bvx + c * bvy)),
         teammates=placed[:n], teammates_present=present[:n], teammates_fallen=down[:n],
         opponents=placed[n:], opponents_present=present[n:], opponents_fallen=down[n:],
-        play_mode=_play_mode(obs["play_mode"]), time_s=float(game[0]), half=int(game[1]),
+        play_mode=play_mode_of(obs["play_mode"]), time_s=float(game[0]), half=int(game[1]),
         score=(int(game[2]), int(game[3])),
     )
     return view

@@ -17,12 +17,17 @@ from typing import Any
 import numpy as np
 
 from strategy.geometry import BallRoll
-from strategy.perception.worldmodel import BELIEF_RESOLUTION_M, WorldModel, _rounded, heard_texts
-from teamenv import PlayMode
+from strategy.perception.worldmodel import (
+    BELIEF_RESOLUTION_M,
+    WorldModel,
+    _heard_from_team,
+    _rounded,
+    heard_texts,
+)
 from teamenv.field import FieldSpec
+from teamenv.observation import play_mode_of
 
 _new_model = object.__new__
-_MODES = {int(m): m for m in PlayMode}
 
 
 def team_world_models(observations: Mapping[str, Mapping[str, Any]],
@@ -76,7 +81,7 @@ def team_world_models(observations: Mapping[str, Mapping[str, Any]],
     # what WorldModel.obstacle_rows masks: every present player but oneself
     obstacle_mask = np.concatenate((present, opponents_present), axis=1)
     obstacle_mask[every, me_rows] = False
-    modes = [int(observations[agent]["play_mode"]) for agent in agents]
+    modes = [play_mode_of(observations[agent]["play_mode"]) for agent in agents]
     # belief keys: everything but the own pose and the texts heard, as bytes (one row each)
     keys = np.concatenate((
         flat[:, :count].reshape(agents_n, -1).view(np.uint8),
@@ -93,7 +98,6 @@ def team_world_models(observations: Mapping[str, Mapping[str, Any]],
     for a, agent in enumerate(agents):
         obs = observations[agent]
         rows = flat[a]
-        mode = modes[a]
         game = obs["game"]
         wm = _new_model(WorldModel)
         # a frozen dataclass: fill its instance dict (what __init__ would store)
@@ -103,7 +107,7 @@ def team_world_models(observations: Mapping[str, Mapping[str, Any]],
             ball_velocity=rows[count + 2], teammates=rows[:n], teammates_present=present[a],
             teammates_fallen=mates_fallen[a], opponents=rows[n:count],
             opponents_present=opponents_present[a], opponents_fallen=opponents_fallen[a],
-            play_mode=_MODES.get(mode) or PlayMode(mode), time_s=float(game[0]),
+            play_mode=modes[a], time_s=float(game[0]),
             half=int(game[1]), score=(int(game[2]), int(game[3])),
             heard=heard[a] if heard is not None else tuple(heard_texts(obs)), field=field,
             roll=roll,
@@ -151,7 +155,7 @@ def _heard(observations: Mapping[str, Mapping[str, Any]],
         return None
     if info.ndim != 3 or info.shape[2] < 3:
         return None
-    ok = ((info[:, :, 0] > 0.5) & ((info[:, :, 1] > 0.5) | (info[:, :, 2] > 0.5))).tolist()
+    ok = _heard_from_team(info).tolist()
     return [tuple(t for t, good in zip(said, fine, strict=False) if t and good)
             for said, fine in zip(texts, ok, strict=True)]
 

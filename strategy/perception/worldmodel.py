@@ -60,8 +60,14 @@ def heard_texts(obs: Mapping[str, Any]) -> list[str]:
     info = np.asarray(obs.get("heard", np.zeros((0, 4))))
     if not len(info):
         return []
-    ok = ((info[:, 0] > 0.5) & ((info[:, 1] > 0.5) | (info[:, 2] > 0.5))).tolist()
+    ok = _heard_from_team(info).tolist()
     return [text for text, good in zip(texts, ok, strict=False) if text and good]
+
+
+def _heard_from_team(info: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """(..., K) which heard slots of ``info`` (..., K, 4) hold a message from a teammate or
+    from oneself (present, from self, from a teammate, direction)."""
+    return (info[..., 0] > 0.5) & ((info[..., 1] > 0.5) | (info[..., 2] > 0.5))
 
 
 def world_view(players: ArrayLike, ball: ArrayLike, opponents: ArrayLike | None = None,
