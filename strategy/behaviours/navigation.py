@@ -134,26 +134,40 @@ def walk_command(position: ArrayLike, heading: float, target: ArrayLike,
     while turning to face ``face`` (a point; default: keep walking heading). The caller clips
     the result to the command range.
     """
+    command, _, v = approach(position, heading, target, params, face, speed)
+    if command is not None:
+        return command
     p = np.asarray(position, dtype=np.float64)
     t = np.asarray(target, dtype=np.float64)
-    dx, dy = t[0] - p[0], t[1] - p[1]
+    return walk_along(direction_to(p, t, obstacles, params), heading, v, params)
+
+
+def approach(position: ArrayLike, heading: float, target: ArrayLike, params: NavigationParams,
+             face: ArrayLike | None = None, speed: float | None = None
+             ) -> tuple[NDArray[np.float64] | None, float, float]:
+    """The part of ``walk_command`` that needs no obstacles: ``(command, distance, speed)``,
+    where ``command`` is the walk when the walker has arrived (turn to face ``face``) or is
+    within ``omni_m`` (walk straight at the target), else None (follow the potential field
+    at ``speed``)."""
+    p0, p1 = float(position[0]), float(position[1])
+    dx, dy = float(target[0]) - p0, float(target[1]) - p1
     dist = math.hypot(dx, dy)
     top = params.max_speed if speed is None else speed
     face_angle = None
     if face is not None:
-        f = np.asarray(face, dtype=np.float64)
-        fx, fy = f[0] - p[0], f[1] - p[1]
+        fx, fy = float(face[0]) - p0, float(face[1]) - p1
         if fx * fx + fy * fy > 0.0025:
             face_angle = math.atan2(fy, fx)
     if dist < params.arrive_m:
         turn = 0.0 if face_angle is None else wrap_angle(face_angle - heading)
-        return np.array([0.0, 0.0, params.turn_gain * turn])
+        return np.array([0.0, 0.0, params.turn_gain * turn]), dist, 0.0
     v = max(min(top, params.min_speed), top * min(1.0, dist / max(params.slow_down_m, 1e-9)))
     if dist < params.omni_m:
         local_x, local_y = to_body(dx, dy, heading)
         turn = 0.0 if face_angle is None else wrap_angle(face_angle - heading)
-        return np.array([v * local_x / dist, v * local_y / dist, params.turn_gain * turn])
-    return walk_along(direction_to(p, t, obstacles, params), heading, v, params)
+        return (np.array([v * local_x / dist, v * local_y / dist, params.turn_gain * turn]),
+                dist, v)
+    return None, dist, v
 
 
 def walk_along(theta: float, heading: float, speed: float,

@@ -21,8 +21,13 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from strategy.behaviours.navigation import NavigationParams, walk_along, walk_command
-from strategy.geometry import to_body, wrap_angle
+from strategy.behaviours.navigation import (
+    NavigationParams,
+    approach,
+    walk_along,
+    walk_command,
+)
+from strategy.geometry import wrap_angle
 
 _THIRD_PI = math.pi / 3
 
@@ -73,28 +78,12 @@ def walk_commands(goals: Sequence[WalkGoal]) -> list[NDArray[np.float64]]:
     out: list[NDArray[np.float64] | None] = [None] * len(goals)
     field = []  # (index, p0, p1, t0, t1, dist, v, heading) of goals that follow the field
     for i, g in enumerate(goals):
-        p0, p1 = float(g.position[0]), float(g.position[1])
-        t0, t1 = float(g.target[0]), float(g.target[1])
-        dx, dy = t0 - p0, t1 - p1
-        dist = math.hypot(dx, dy)
-        top = params.max_speed if g.speed is None else g.speed
-        heading = g.heading
-        face_angle = None
-        if g.face is not None:
-            fx, fy = float(g.face[0]) - p0, float(g.face[1]) - p1
-            if fx * fx + fy * fy > 0.0025:
-                face_angle = math.atan2(fy, fx)
-        if dist < params.arrive_m:
-            turn = 0.0 if face_angle is None else wrap_angle(face_angle - heading)
-            out[i] = np.array([0.0, 0.0, params.turn_gain * turn])
+        command, dist, v = approach(g.position, g.heading, g.target, params, g.face, g.speed)
+        if command is not None:
+            out[i] = command
             continue
-        v = max(min(top, params.min_speed), top * min(1.0, dist / max(params.slow_down_m, 1e-9)))
-        if dist < params.omni_m:
-            local_x, local_y = to_body(dx, dy, heading)
-            turn = 0.0 if face_angle is None else wrap_angle(face_angle - heading)
-            out[i] = np.array([v * local_x / dist, v * local_y / dist, params.turn_gain * turn])
-            continue
-        field.append((i, p0, p1, t0, t1, dist, v, heading))
+        field.append((i, float(g.position[0]), float(g.position[1]), float(g.target[0]),
+                      float(g.target[1]), dist, v, g.heading))
     if field:
         pushes = _repulsions([goals[row[0]] for row in field], [row[5] for row in field], params)
         for row, push in zip(field, pushes, strict=True):
