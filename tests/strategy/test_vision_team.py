@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-import hashlib
-
 import numpy as np
 import pytest
 
 import teamenv
 from strategy.perception.team_message import decode_team_report, team_message_schema
+from tests.teamenv.helpers import episode_digest
 
 
 def _env(left="full", right="chaser", cycles=600, **kwargs):
@@ -101,13 +100,7 @@ def test_voting_makes_the_team_agree_more_than_each_agent_alone():
 
 
 def _trajectory_hash(seed):
-    env = _env(cycles=300)
-    env.reset(seed=seed)
-    h = hashlib.sha256()
-    while not env.episode_over:
-        env.step({})
-        h.update(env.state().tobytes())
-    return h.hexdigest()
+    return episode_digest(_env(cycles=300), seed)
 
 
 def test_same_seed_same_vision_match_bit_for_bit():

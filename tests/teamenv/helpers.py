@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import hashlib
+
 import numpy as np
 
 import teamenv
@@ -12,6 +14,17 @@ def make_env(team_size: int = 2, **kwargs) -> teamenv.SoccerParallelEnv:
     env = teamenv.parallel_env(team_size=team_size, **kwargs)
     env.reset(seed=0)
     return env
+
+
+def episode_digest(env, seed: int) -> str:
+    """SHA-256 of every cycle's full state of the episode ``env`` plays from ``reset(seed)``
+    with no actions from the caller (both sides are teams)."""
+    env.reset(seed=seed)
+    h = hashlib.sha256()
+    while not env.episode_over:
+        env.step({})
+        h.update(env.state().tobytes())
+    return h.hexdigest()
 
 
 def idle(env) -> dict:

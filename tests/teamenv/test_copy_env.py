@@ -2,7 +2,6 @@
 reset; a copy's next episode is a fresh env's, bit for bit."""
 
 import copy
-import hashlib
 import pickle
 
 import cloudpickle
@@ -10,6 +9,7 @@ import pytest
 
 import teamenv
 from teamenv.config import RulesConfig
+from tests.teamenv.helpers import episode_digest
 
 COPIES = {"pickle": lambda env: pickle.loads(pickle.dumps(env)),
           "cloudpickle": lambda env: cloudpickle.loads(cloudpickle.dumps(env)),
@@ -21,26 +21,17 @@ def _make(**kw):
                                 rules=RulesConfig(half_time_s=6.0), **kw)
 
 
-def _episode(env, seed):
-    env.reset(seed=seed)
-    h = hashlib.sha256()
-    while not env.episode_over:
-        env.step({})
-        h.update(env.state().tobytes())
-    return h.hexdigest()
-
-
 @pytest.mark.parametrize("how", sorted(COPIES))
 def test_copy_before_and_after_reset_plays_like_a_fresh_env(how):
-    fresh = _episode(_make(), 9)
-    assert _episode(COPIES[how](_make()), 9) == fresh          # never reset
+    fresh = episode_digest(_make(), 9)
+    assert episode_digest(COPIES[how](_make()), 9) == fresh          # never reset
     used = _make()
     used.reset(seed=1)
     for _ in range(150):
         used.step({})
     clone = COPIES[how](used)                                   # mid-episode
-    assert _episode(clone, 9) == fresh
-    assert _episode(used, 9) == fresh                           # the original is unharmed
+    assert episode_digest(clone, 9) == fresh
+    assert episode_digest(used, 9) == fresh                           # the original is unharmed
 
 
 def test_mid_episode_copies_continue_alike():
@@ -65,7 +56,7 @@ def test_vision_match_with_talking_teams_copies():
     for _ in range(60):
         env.step({})
     for how in COPIES.values():
-        assert _episode(how(env), 9) == _episode(
+        assert episode_digest(how(env), 9) == episode_digest(
             teamenv.parallel_env(left="full", right="chaser", team_size=5,
                                  observation_mode="vision",
                                  rules=RulesConfig(half_time_s=6.0)), 9)

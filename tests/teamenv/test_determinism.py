@@ -8,6 +8,7 @@ import sys
 import numpy as np
 
 import teamenv
+from tests.teamenv.helpers import episode_digest
 
 STEPS = 2000
 
@@ -72,15 +73,6 @@ def _repo_root():
     return Path(__file__).resolve().parents[2]
 
 
-def _match_digest(env, seed: int) -> str:
-    env.reset(seed=seed)
-    h = hashlib.sha256()
-    while not env.episode_over:
-        env.step({})
-        h.update(env.state().tobytes())
-    return h.hexdigest()
-
-
 def test_reset_after_an_episode_replays_a_fresh_env_bit_for_bit():
     # pymunk keeps contacts and its spatial index in the space: the env must not carry them
     # from one episode into the next (11 v 11 chasers collide enough to show it)
@@ -91,5 +83,5 @@ def test_reset_after_an_episode_replays_a_fresh_env_bit_for_bit():
                                     rules=RulesConfig(half_time_s=20.0))
 
     reused = make()
-    _match_digest(reused, 1)
-    assert _match_digest(reused, 2) == _match_digest(make(), 2)
+    episode_digest(reused, 1)
+    assert episode_digest(reused, 2) == episode_digest(make(), 2)
