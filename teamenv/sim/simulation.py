@@ -69,8 +69,6 @@ class CycleReport:
         return [] if self.delivery is None else self.delivery.dropped
 
 
-
-
 class Simulation:
     """The whole world of one match, stepped by arrays of commands. No RL API here.
 

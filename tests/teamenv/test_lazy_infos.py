@@ -8,7 +8,8 @@ import pickle
 import numpy as np
 
 import teamenv
-from teamenv.env import SIDES, LazyInfos
+from teamenv.env import SIDES
+from teamenv.lazy import LazyInfos
 from teamenv.sim.playmode import PlayMode
 
 

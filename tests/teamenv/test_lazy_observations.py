@@ -7,7 +7,7 @@ import pickle
 import numpy as np
 
 import teamenv
-from teamenv.env import LazyObservations
+from teamenv.lazy import LazyObservations
 
 
 def _eager(env):
