@@ -82,7 +82,7 @@ class ActionParser:
             elif all(texts):
                 says = list(zip(rows, texts, strict=True))
             else:
-                if any(not (text is None or type(text) is str) for text in texts if not text):
+                if any(not _silence(text) for text in texts if not text):
                     return False  # a falsy non-str (0, b"", []): the per-agent path rejects it
                 says = [(row, text) for row, text in zip(rows, texts, strict=True) if text]
         else:
@@ -100,7 +100,7 @@ class ActionParser:
                 text = action.get("say")
                 if text:
                     says.append((row, text))
-                elif not (text is None or type(text) is str):
+                elif not _silence(text):
                     return False  # a falsy non-str: the per-agent path rejects it
         try:
             walk = np.asarray(walks, dtype=float).reshape(len(walks), 3)
@@ -254,6 +254,11 @@ class ActionParser:
 
 
 _RANGES: dict[int, list[int]] = {}
+
+
+def _silence(text: Any) -> bool:
+    """A falsy ``say`` the per-agent path takes as silence (None or ""), not as bad input."""
+    return text is None or type(text) is str
 
 
 def _is_range(rows: list[int]) -> bool:
