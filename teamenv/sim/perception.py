@@ -64,7 +64,7 @@ class StatePerception:
 
         ``heard_info`` (n, K, 4): present, from self, from a teammate, direction per heard
         slot; ``heard_texts``: per agent, a tuple of K texts ("" = empty slot)."""
-        n, size = len(poses), self.team_size
+        n = len(poses)
         team_of = self.team_of
         # A scratch buffer kept between calls (``out`` below is a copy): its constant "present"
         # column and the play-mode/half/score block are written only when they change.
@@ -134,19 +134,8 @@ class StatePerception:
         out = rows.astype(np.float32)
         if flat:
             return list(out)
-        if lazy:
-            return ObservationRows(self, out, heard_texts)
-        players = out[:, self._o_players:self._o_mode].reshape(n, n, PLAYER_DIM)
-        team_modes = self._team_modes
-        return [
-            {"self": me, "ball": b, "teammates": mates, "opponents": opps, "play_mode": pm,
-             "game": g, "heard_text": texts, "heard": heard}
-            for me, b, mates, opps, pm, g, texts, heard in zip(
-                out[:, :SELF_DIM], out[:, self._o_ball:self._o_players], players[:, :size],
-                players[:, size:], team_modes, out[:, self._o_game:self._o_heard],
-                heard_texts, out[:, self._o_heard:].reshape(n, self.heard_slots, HEARD_DIM),
-                strict=True)
-        ]
+        observations = ObservationRows(self, out, heard_texts)
+        return observations if lazy else list(observations)
 
 
 class ObservationRows(Sequence):
