@@ -354,19 +354,10 @@ def _exact_dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float6
     near = _near(pts, a, b, eps)
     if near.all():  # every group is a clique (the usual case): one cluster or all noise
         dense = np.add.reduceat(w, starts) >= min_samples  # integer weights: exact sums
-        number = np.full(len(starts), -1, dtype=np.int64)
         dense_groups = np.flatnonzero(dense)
-        if order is None:
-            number[dense_groups] = np.arange(len(dense_groups))
-        else:  # clusters numbered by their first point's original index
-            by_first = np.argsort(order[starts[dense_groups]], kind="stable")
-            number[dense_groups[by_first]] = np.arange(len(dense_groups))
-        labels = np.repeat(number, counts)
-        if order is not None:
-            out = np.empty(n, dtype=np.int64)
-            out[order] = labels
-            labels = out
-        return labels
+        number = _numbered(len(starts), dense_groups,
+                           None if order is None else order[starts[dense_groups]])
+        return _unsorted(np.repeat(number, counts), order)
     a, b = a[near], b[near]
     if min_samples <= 1:  # every weight is at least 1: every point is a core point
         core = np.ones(n, dtype=bool)
@@ -397,17 +388,30 @@ def _exact_dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float6
     member = label_root < big
     if member.any():
         roots = np.flatnonzero(root == np.arange(n))  # (sorted) positions of first points
-        number = np.full(n, -1, dtype=np.int64)
-        if order is None:
-            number[roots] = np.arange(len(roots))
-        else:  # number clusters by their first point's original index
-            number[roots[np.argsort(order[roots], kind="stable")]] = np.arange(len(roots))
+        number = _numbered(n, roots, None if order is None else order[roots])
         labels[member] = number[label_root[member]]
-    if order is not None:
-        out = np.empty(n, dtype=np.int64)
-        out[order] = labels
-        labels = out
-    return labels
+    return _unsorted(labels, order)
+
+
+def _numbered(size: int, which: NDArray[np.intp],
+              original_first: NDArray[np.intp] | None) -> NDArray[np.int64]:
+    """(size,) cluster numbers: -1, except 0, 1, ... at ``which`` (the clusters), numbered in
+    the order of their first point's index before sorting (``original_first``; None: the
+    points were not reordered), as sklearn numbers its clusters."""
+    number = np.full(size, -1, dtype=np.int64)
+    if original_first is not None:
+        which = which[np.argsort(original_first, kind="stable")]
+    number[which] = np.arange(len(which))
+    return number
+
+
+def _unsorted(labels: NDArray[np.int64], order: NDArray[np.intp] | None) -> NDArray[np.int64]:
+    """``labels`` of points sorted by ``order`` put back in the callers' point order."""
+    if order is None:
+        return labels
+    out = np.empty(len(labels), dtype=np.int64)
+    out[order] = labels
+    return out
 
 
 def _group_pairs(starts: NDArray[np.intp], counts: NDArray[np.intp]
