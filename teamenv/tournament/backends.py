@@ -64,9 +64,9 @@ def warm_up(names: Sequence[str] = ()) -> int:
 def execute_task(task: MatchTask) -> MatchResult:
     """Play one scheduled match (in whatever process runs it). Team faults become forfeits.
 
-    A fresh env is built for every match: an env reset with a new seed is not bit-identical
-    to a fresh one (the physics world keeps state, such as pymunk's cached contacts, across a
-    reset), and a match must depend on its task only, never on what its worker played before.
+    A fresh env is built for every match, so a match depends on its task only, never on what
+    its worker played before. (Since ``reset`` builds a new physics world, a reset env would
+    replay a fresh one bit for bit too; reusing envs would save ~35 ms a match.)
     """
     left, right = task.left.name, task.right.name
     return play_match(left, right, task.seed, task.options,
