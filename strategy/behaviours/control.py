@@ -105,6 +105,7 @@ def team_actions(requests: Mapping[str, ControlRequest], low: NDArray[np.float64
 def resolve_walks(requests: Sequence[ControlRequest]) -> None:
     """Compute the pending walk commands of ``requests`` (a team's, this cycle) together
     (``strategy.behaviours.walk_batch.walk_commands``): the same commands, fewer passes."""
+    # imported here: requests stay importable without navigation (and its teamenv errors)
     from strategy.behaviours.walk_batch import walk_commands
 
     pending = [r for r in requests if "walk" not in r.__dict__]
