@@ -1,0 +1,100 @@
+"""A replay in the compact form the page reads: a JSON header and one binary blob.
+
+The blob is the per-cycle arrays back to back, little-endian, each starting on an 8-byte
+boundary; the header lists each array's ``name``, ``dtype`` (a JavaScript typed-array name),
+``shape`` and byte ``offset``. Positions stay float32 (as recorded), so what the page draws is
+exactly what the replay holds. A full 11 v 11 match (30,000 cycles) is ~9 MB without extras.
+Everything else (field geometry, teams, score, kicks, goals, the view cone) is in the header.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from teamenv.field import field_preset
+from teamenv.replay import Replay
+from teamenv.sim.playmode import PlayMode
+
+#: numpy dtype -> the JavaScript typed array the page views it with.
+_JS_TYPES = {np.dtype(np.float32): "Float32Array", np.dtype(np.int8): "Int8Array",
+             np.dtype(np.uint8): "Uint8Array", np.dtype(np.int16): "Int16Array",
+             np.dtype(np.uint16): "Uint16Array", np.dtype(np.int32): "Int32Array",
+             np.dtype(np.uint32): "Uint32Array"}
+
+#: Per-cycle arrays sent when the replay has them, with the dtype they travel as (float16 and
+#: float64 become float32: JavaScript has no float16 view everywhere, and float32 is enough).
+_CYCLE_ARRAYS = {
+    "players": np.float32, "ball": np.float32, "play_mode": np.int8, "score": np.int16,
+    "time_s": np.float32, "attack_sign": np.int8, "fallen": np.uint8, "say_bytes": np.uint8,
+    "heard_from": np.uint32, "belief_pose": np.float32, "belief_ball": np.float32,
+    "role": np.int8, "role_vector": np.int8,
+}
+#: Per-event arrays (kicks, goals) sent in the header as lists.
+_EVENT_ARRAYS = ("kick_cycle", "kick_player", "goal_cycle", "goal_team", "goal_player")
+
+
+def replay_arrays(replay: Replay) -> dict[str, np.ndarray]:
+    """The per-cycle arrays of ``replay`` that the page uses, in their travel dtypes."""
+    out = {}
+    for name, dtype in _CYCLE_ARRAYS.items():
+        value = getattr(replay, name, None)
+        if value is not None:
+            out[name] = np.ascontiguousarray(value, dtype=dtype)
+    return out
+
+
+def encode_replay(replay: Replay, match_id: int) -> tuple[dict[str, Any], bytes]:
+    """(header, blob) of ``replay``: see the module docstring."""
+    layout, chunks, offset = [], [], 0
+    for name, array in replay_arrays(replay).items():
+        data = array.astype(array.dtype.newbyteorder("<"), copy=False).tobytes()
+        layout.append({"name": name, "dtype": _JS_TYPES[array.dtype], "shape": list(array.shape),
+                       "offset": offset})
+        pad = -len(data) % 8
+        chunks.append(data + b"\0" * pad)
+        offset += len(data) + pad
+    header = replay_header(replay, match_id)
+    header["arrays"] = layout
+    header["bytes"] = offset
+    return header, b"".join(chunks)
+
+
+def replay_header(replay: Replay, match_id: int) -> dict[str, Any]:
+    """What the page needs besides the arrays: field, teams, result, overlays available."""
+    meta = replay.metadata
+    field = field_preset(meta["field"])
+    options = meta.get("options") or {}
+    events = {name: np.asarray(getattr(replay, name)).tolist() for name in _EVENT_ARRAYS
+              if getattr(replay, name, None) is not None}
+    return {
+        "id": match_id,
+        "cycles": len(replay),
+        "cycle_s": float(meta.get("cycle_s", 0.02)),
+        "team_size": replay.team_size,
+        "left": meta.get("left"), "right": meta.get("right"), "seed": meta.get("seed"),
+        "options": options,
+        "result": meta.get("result"),
+        "field": {"name": field.name, "length": field.length, "width": field.width,
+                  "goal_width": field.goal_width, "goal_depth": field.goal_depth,
+                  "penalty_length": field.penalty_length, "penalty_width": field.penalty_width,
+                  "center_circle_radius": field.center_circle_radius},
+        "play_modes": [mode.name for mode in sorted(PlayMode)],
+        "view_cone": view_cone(options),
+        "events": events,
+    }
+
+
+def view_cone(options: dict[str, Any]) -> dict[str, Any] | None:
+    """The agents' field of view in a vision-mode match (half angle in radians), else None."""
+    if options.get("observation_mode") != "vision":
+        return None
+    from teamenv.config import VISION_PROFILES
+
+    profile = options.get("vision") or "simspark"
+    if profile not in VISION_PROFILES:
+        return None
+    fov_deg = VISION_PROFILES[profile].fov_horizontal_deg
+    return {"profile": profile, "fov_deg": fov_deg, "half_angle": math.radians(fov_deg) / 2.0}
