@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Sequence
 
 from teamenv.errors import TeamEnvError
+from teamenv.viewer.cli import add_parser as add_view_parser
 
 
 def _add_match(sub: argparse._SubParsersAction) -> None:
@@ -100,6 +101,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_match(sub)
     _add_render(sub)
     _add_teams(sub)
+    add_view_parser(sub)
     try:
         from teamenv.tournament.cli import add_tournament_commands
     except ImportError:
