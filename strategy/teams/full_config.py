@@ -3,12 +3,16 @@
 Every field can be given as a team config key (``teamenv match full chaser --left-config
 '{"shoot_range_m": 6}'``, or ``full:shoot_range_m=6`` in a tournament spec). Unknown keys and
 bad values are errors that name the field and the value.
+
+Fields an optimizer may vary declare their range or choices in their metadata
+(``search(Range(...))``, see ``teamenv.optimize.search_space`` and ``teamenv optimize``);
+the defaults stay what seeded matches (and the golden hashes) were recorded with.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field, fields
 
 from strategy.behaviours.navigation import NavigationParams
 from strategy.decision.params import DecisionParams
@@ -18,6 +22,7 @@ from strategy.positioning.formation.sized import KINDS
 from strategy.positioning.marking import MarkingParams
 from teamenv.config import build_config
 from teamenv.errors import ConfigError
+from teamenv.optimize.search_space import Choice, Range, search
 
 
 @dataclass(frozen=True)
@@ -75,42 +80,42 @@ class FullTeamConfig:
     Navigation (seed 001 eq. 6-10): nav_k_repulse (< 0), nav_influence_m, nav_max_speed.
     """
 
-    formation_attack: str = "attack"
-    formation_defend: str = "defend"
+    formation_attack: str = field(default="attack", metadata=search(Choice(("attack", "defend"))))
+    formation_defend: str = field(default="defend", metadata=search(Choice(("defend", "attack"))))
     formation_kickoff_ours: str = "kickoff-ours"
     formation_kickoff_theirs: str = "kickoff-theirs"
     formation_setplay_ours: str = "setplay-ours"
     formation_setplay_theirs: str = "setplay-theirs"
-    switch_formations: bool = True
-    marking: bool = True
-    mark_shoot_range_m: float = 9.0
-    mark_min_ball_distance_m: float = 2.0
-    mark_max_behind_ball_m: float = 3.0
-    mark_distance_m: float = 1.5
-    max_markers: int = 2
-    pass_max_m: float = 9.0
-    pass_lane_m: float = 1.0
-    pressure_m: float = 2.0
-    dribble_speed: float = 0.9
-    ball_player_hysteresis_m: float = 0.5
-    cover_m: float = 3.0
-    goalie_line_m: float = 0.5
-    goalie_clear_m: float = 3.5
-    set_play_clearance_m: float = 2.6
+    switch_formations: bool = field(default=True, metadata=search(Choice((True, False))))
+    marking: bool = field(default=True, metadata=search(Choice((True, False))))
+    mark_shoot_range_m: float = field(default=9.0, metadata=search(Range(4.0, 15.0)))
+    mark_min_ball_distance_m: float = field(default=2.0, metadata=search(Range(0.5, 5.0)))
+    mark_max_behind_ball_m: float = field(default=3.0, metadata=search(Range(0.0, 8.0)))
+    mark_distance_m: float = field(default=1.5, metadata=search(Range(0.5, 4.0)))
+    max_markers: int = field(default=2, metadata=search(Range(0, 4, integer=True)))
+    pass_max_m: float = field(default=9.0, metadata=search(Range(4.0, 15.0)))
+    pass_lane_m: float = field(default=1.0, metadata=search(Range(0.3, 3.0)))
+    pressure_m: float = field(default=2.0, metadata=search(Range(0.5, 5.0)))
+    dribble_speed: float = field(default=0.9, metadata=search(Range(0.3, 1.5)))
+    ball_player_hysteresis_m: float = field(default=0.5, metadata=search(Range(0.0, 2.0)))
+    cover_m: float = field(default=3.0, metadata=search(Range(0.0, 8.0)))
+    goalie_line_m: float = field(default=0.5, metadata=search(Range(0.0, 3.0)))
+    goalie_clear_m: float = field(default=3.5, metadata=search(Range(1.0, 8.0)))
+    set_play_clearance_m: float = field(default=2.6, metadata=search(Range(2.0, 4.0)))
     communicate: bool = True
     vote: bool = True
     localization_particles: int = 50
     say_every: int = 1
-    nav_k_repulse: float = -0.35
-    nav_influence_m: float = 1.6
-    nav_max_speed: float = 1.2
-    kick_max_angle_rad: float = 3.1
-    kick_possession_weight: float = 2.0
-    kick_progress_weight: float = 0.15
-    kick_goal_weight: float = 25.0
-    kick_min_margin_s: float = 1.0
-    kick_follow_up: float = 0.5
-    ball_pull: float = 0.5
+    nav_k_repulse: float = field(default=-0.35, metadata=search(Range(-1.5, -0.05)))
+    nav_influence_m: float = field(default=1.6, metadata=search(Range(0.5, 4.0)))
+    nav_max_speed: float = field(default=1.2, metadata=search(Range(0.6, 1.5)))
+    kick_max_angle_rad: float = field(default=3.1, metadata=search(Range(0.5, 3.14)))
+    kick_possession_weight: float = field(default=2.0, metadata=search(Range(0.2, 20.0, "log")))
+    kick_progress_weight: float = field(default=0.15, metadata=search(Range(0.01, 1.5, "log")))
+    kick_goal_weight: float = field(default=25.0, metadata=search(Range(2.0, 200.0, "log")))
+    kick_min_margin_s: float = field(default=1.0, metadata=search(Range(0.0, 3.0)))
+    kick_follow_up: float = field(default=0.5, metadata=search(Range(0.0, 1.0)))
+    ball_pull: float = field(default=0.5, metadata=search(Range(0.0, 1.0)))
 
     def __post_init__(self) -> None:
         names = set(KINDS) | set(builtin_formation_names())
