@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
-from typing import Any, Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 from pettingzoo import ParallelEnv
@@ -22,6 +23,8 @@ from teamenv.config import (
 from teamenv.errors import ActionError, ConfigError, TeamFault
 from teamenv.field import FieldSpec, field_preset
 from teamenv.lazy import LazyInfos, LazyObservations
+from teamenv.rewards import RewardTerms, reward_weights
+from teamenv.scenarios import Scenario, ScenarioRun, get_scenario
 from teamenv.sim.perception import ObservationRows
 from teamenv.sim.playmode import PlayMode
 from teamenv.sim.simulation import SIM_PHASES, Commands, CycleReport, Simulation
@@ -106,9 +109,21 @@ class SoccerParallelEnv(ParallelEnv):
     ``observation_format="box"``: landmarks, ball, teammates, opponents, lines, vision,
     counts, odometry, gyro, body, play mode one-hot, game, heard, flattened in this order.
 
-    Rewards: +1 to each agent of a team that scores, -1 to the other team; pass
-    ``reward_fn(RewardInput) -> {agent: reward}`` to shape them. Episodes terminate at
-    GameOver; ``max_cycles`` truncates. ``state()`` is a world-frame vector for centralized
+    Rewards: +1 to each agent of a team that scores, -1 to the other team. ``reward=`` picks
+    weighted terms instead (``teamenv.rewards``: "goal", "ball_progress", "possession", or a
+    dict of weights; ``{}`` gives all zeros); ``reward_fn(RewardInput) -> {agent: reward}``
+    shapes them last (its ``RewardInput.default`` holds the ``reward=`` result when both are
+    given). Episodes terminate at GameOver; ``max_cycles`` truncates.
+
+    ``scenario=`` (``teamenv.scenarios``) starts every episode in a named situation (e.g.
+    "empty_goal", "counter_3v2") with its own end: the end condition terminates, its time
+    limit truncates, and the last step's infos hold ``end`` (the reason). With no ``field`` or
+    ``team_size`` given the scenario's are used; players it leaves off the pitch are benched
+    (``benched_agents``: outside the pitch, idle, never in ``agents``).
+
+    ``caller_agents``: agents of a side named by a team that the caller drives instead (they
+    are in ``agents``); the team still sees their observations and its actions for them are
+    ignored, so a team plays around the caller's player (``teamenv.single_agent``). ``state()`` is a world-frame vector for centralized
     critics. Infos are empty unless something happened to the agent: ``dropped`` (lenient
     drops of its action), ``beam_refused``, ``message_dropped``, ``goal`` (team that scored).
 
@@ -130,7 +145,7 @@ class SoccerParallelEnv(ParallelEnv):
 
     def __init__(
         self,
-        field: str | FieldSpec = "simspark",
+        field: str | FieldSpec | None = None,
         team_size: int | None = None,
         left: str | None = None,
         right: str | None = None,
@@ -148,13 +163,23 @@ class SoccerParallelEnv(ParallelEnv):
         locomotion_profile: str = "t1_mj",
         strict: bool = True,
         reward_fn: RewardFn | None = None,
+        reward: str | Mapping[str, float] | None = None,
+        scenario: str | Scenario | None = None,
+        caller_agents: Sequence[str] = (),
         max_cycles: int | None = None,
         team_cycle_budget_s: float | None = None,
         render_mode: str | None = None,
         profile_phases: bool = True,
     ) -> None:
+        self.scenario = None if scenario is None else get_scenario(scenario)
+        if field is None:
+            field = "simspark" if self.scenario is None or self.scenario.field is None \
+                else self.scenario.field
         self.field = field_preset(field)
-        self.team_size = self.field.default_team_size if team_size is None else team_size
+        if team_size is None:
+            team_size = self.field.default_team_size if self.scenario is None or \
+                self.scenario.team_sizes is None else self.scenario.min_team_size()
+        self.team_size = team_size
         if not isinstance(self.team_size, (int, np.integer)) or not 1 <= self.team_size <= 11:
             raise ConfigError(f"team_size: must be an int in 1..11, got {team_size!r}")
         self.team_size = int(self.team_size)
@@ -183,6 +208,7 @@ class SoccerParallelEnv(ParallelEnv):
         self.action_format = action_format
         self.strict = strict
         self.reward_fn = reward_fn
+        self.reward_weights = reward_weights(reward)
         self.max_cycles = max_cycles
         self.team_cycle_budget_s = team_cycle_budget_s
         self.render_mode = render_mode
@@ -198,6 +224,11 @@ class SoccerParallelEnv(ParallelEnv):
             raise ConfigError(f"channel: {exc}") from exc
         self.channel_name = channel
         n = self.team_size
+        self._scenario_run = None if self.scenario is None else \
+            ScenarioRun(self.scenario, self.field, n)
+        self.reward_terms = None if self.reward_weights is None else RewardTerms(
+            self.reward_weights, n, float(profile.kick_reach), self.physics.cycle_s)
+        self._needs_state = reward_fn is not None or self.reward_terms is not None
         self.player_names = [f"{side}_{k + 1}" for side in SIDES for k in range(n)]
         self._row = {name: i for i, name in enumerate(self.player_names)}
 
@@ -243,8 +274,20 @@ class SoccerParallelEnv(ParallelEnv):
         self.team_agents = {side: [f"{side}_{k + 1}" for k in range(n)] for side in self.teams}
         self._team_agent_sets = {side: set(a) for side, a in self.team_agents.items()}
         self._team_rows = {side: [self._row[x] for x in a] for side, a in self.team_agents.items()}
+        benched = set() if self._scenario_run is None else \
+            {self.player_names[i] for i in self._scenario_run.benched}
+        #: Agents a scenario leaves off the pitch: idle, outside it, never in ``agents``.
+        self.benched_agents = [a for a in self.player_names if a in benched]
+        self._bench_rows = np.array([self._row[a] for a in self.benched_agents], dtype=np.intp)
+        self.caller_agents = self._check_caller_agents(caller_agents, benched)
+        # The agents whose actions each team gives (its side less the caller's agents); the
+        # same list object as ``team_agents[side]`` when the team drives all of them.
+        self._team_fill = {side: a if not self.caller_agents else
+                           [x for x in a if x not in self.caller_agents]
+                           for side, a in self.team_agents.items()}
 
-        self.possible_agents = [a for a in self.player_names if a.split("_")[0] not in self.teams]
+        self.possible_agents = [a for a in self.player_names if a not in benched and (
+            a.split("_")[0] not in self.teams or a in self.caller_agents)]
         self.agents: list[str] = []
         self._episode_over = True
         self._action_spaces = {a: act_space for a in self.possible_agents}
@@ -322,6 +365,10 @@ class SoccerParallelEnv(ParallelEnv):
         team_seqs = (team_left_seq, team_right_seq)
         self.np_random = np.random.default_rng(env_seq)
         self.sim.reset(self.np_random, np.random.default_rng(vision_seq))
+        if self._scenario_run is not None:
+            # the fifth child: the four above draw what they draw without a scenario
+            self._scenario_run.start(self.sim, np.random.default_rng(seed_seq.spawn(1)[0]))
+        self.end_reason: str | None = None
         for k, (side, team) in enumerate(self.teams.items()):
             team_seed = int(team_seqs[k].generate_state(1)[0])
             t0 = self._clock()
@@ -330,7 +377,7 @@ class SoccerParallelEnv(ParallelEnv):
         self.agents = list(self.possible_agents)
         self._episode_over = False
         self.last_report = CycleReport()
-        self._prev_state = self.sim.global_state() if self.reward_fn is not None else None
+        self._prev_state = self.sim.global_state() if self._needs_state else None
         self._refresh_observations()
         observations = self._agent_observations()
         infos = {a: {} for a in self.agents}
@@ -361,8 +408,10 @@ class SoccerParallelEnv(ParallelEnv):
         exact = len(actions) == len(agent_set) and actions.keys() == agent_set
         unknown = [] if exact else [a for a in actions if a not in agent_set]
         if unknown:
-            why = ("driven by a team plugin" if any(
-                str(a).split("_")[0] in self.teams for a in unknown) else "not an agent of this env")
+            why = ("benched by the scenario" if unknown[0] in self.benched_agents else
+                   "driven by a team plugin" if any(
+                       str(a).split("_")[0] in self.teams for a in unknown)
+                   else "not an agent of this env")
             self._agent_problem(unknown[0], f"unknown agent {unknown[0]!r} ({why}); agents are "
                                 f"{self.agents[:3]}...", dropped)
         missing = [] if exact else [a for a in self.agents if a not in actions]
@@ -376,10 +425,12 @@ class SoccerParallelEnv(ParallelEnv):
         self._phase_s["actions"] += clock() - start
         for side, team in self.teams.items():
             self._team_actions(side, team, cmd)
+        if self._bench_rows.size:  # benched players stand still, whoever drives them
+            self._idle_rows(cmd, self._bench_rows)
 
         report = self.sim.step(cmd)
         self.last_report = report
-        state = self.sim.global_state() if self.reward_fn is not None else None
+        state = self.sim.global_state() if self._needs_state else None
         self._refresh_observations()
 
         agents = list(self.agents)
@@ -387,10 +438,15 @@ class SoccerParallelEnv(ParallelEnv):
         self._prev_state = state
         terminated = self.sim.referee.game_over
         truncated = self.max_cycles is not None and self.sim.cycle >= self.max_cycles
+        if self._scenario_run is not None:
+            terminated, truncated = self._scenario_end(report, terminated, truncated)
         observations = self._agent_observations()
         terminations = dict.fromkeys(agents, terminated)
         truncations = dict.fromkeys(agents, truncated and not terminated)
         infos = self._infos(agents, report, dropped)
+        if self.end_reason is not None and (terminated or truncated):
+            for a in agents:
+                infos[a]["end"] = self.end_reason
         if terminated or truncated:
             self.agents = []
             self._episode_over = True
@@ -419,6 +475,25 @@ class SoccerParallelEnv(ParallelEnv):
             self._renderer = None
 
     # -- internals -------------------------------------------------------------------------
+    def _check_caller_agents(self, caller_agents: Sequence[str], benched: set[str]) -> list[str]:
+        if isinstance(caller_agents, str):
+            caller_agents = (caller_agents,)
+        out = []
+        for agent in caller_agents:
+            if agent not in self._row:
+                raise ConfigError(f"caller_agents: unknown agent {agent!r}; players are "
+                                  f"{self.player_names}")
+            if agent.split("_")[0] not in self.teams:
+                raise ConfigError(f"caller_agents: {agent!r}: its side is not driven by a team "
+                                  "(the caller drives it already); name a team with "
+                                  f"{agent.split('_')[0]}=...")
+            if agent in benched:
+                raise ConfigError(f"caller_agents: {agent!r} is benched by scenario "
+                                  f"{self.scenario.name!r} (not on the pitch)")
+            if agent not in out:
+                out.append(agent)
+        return out
+
     def _check_agent(self, agent: str) -> str:
         if agent not in self._action_spaces:
             raise ActionError(f"unknown agent {agent!r}; possible agents are {self.possible_agents}")
@@ -490,16 +565,42 @@ class SoccerParallelEnv(ParallelEnv):
         if extra:
             raise TeamFault(side, "invalid_action", f"act() returned actions for {extra}, which "
                             f"it does not drive")
-        if len(actions) == len(agents):  # every agent (the usual case): rows known
+        fill = self._team_fill[side]
+        if len(actions) == len(agents) and fill is agents:  # every agent (the usual case)
             given, rows = agents, self._team_rows[side]
-        else:
-            given = [a for a in agents if a in actions]
+        else:  # some agents missing, or the caller drives some of this side
+            given = [a for a in fill if a in actions]
             rows = [self._row[a] for a in given]
         try:
             self._team_parser.fill(cmd, rows, given, [actions[a] for a in given], {})
         except ActionError as exc:
             raise TeamFault(side, "invalid_action", str(exc)) from exc
         self._phase_s["actions"] += self._clock() - start
+
+    def _scenario_end(self, report: CycleReport, terminated: bool,
+                      truncated: bool) -> tuple[bool, bool]:
+        """The scenario's end condition terminates, its time limit truncates; the reason
+        (``end_reason``: a ``teamenv.scenarios.END_CONDITIONS`` name, "time_limit" or
+        "max_cycles") goes into every agent's info of the last step."""
+        reason = self._scenario_run.end_reason(self.sim, report)
+        if reason == "time_limit":
+            truncated = True
+        elif reason is not None:
+            terminated = True
+        elif terminated:
+            reason = "game_over"
+        elif truncated:
+            reason = "max_cycles"
+        self.end_reason = reason
+        return terminated, truncated
+
+    @staticmethod
+    def _idle_rows(cmd: Commands, rows: np.ndarray) -> None:
+        cmd.walk[rows] = 0.0
+        cmd.kick_power[rows] = 0.0
+        cmd.beam_request[rows] = False
+        for row in rows.tolist():
+            cmd.say[row] = ""
 
     def _rewards(self, agents: list[str], report: CycleReport, state: np.ndarray | None) -> dict:
         default = dict.fromkeys(agents, 0.0)
@@ -508,12 +609,18 @@ class SoccerParallelEnv(ParallelEnv):
                 scorer = SIDES[event.team]
                 for a in agents:
                     default[a] += 1.0 if a.startswith(scorer + "_") else -1.0
-        if self.reward_fn is None:
+        if self.reward_terms is None and self.reward_fn is None:
             return default
-        shaped = self.reward_fn(RewardInput(
+        reward_input = RewardInput(
             agents=tuple(agents), report=report, state=state, previous_state=self._prev_state,
             play_mode=self.sim.referee.mode.name,
-            attack_sign=tuple(self.sim.referee.attack_sign), default=default))
+            attack_sign=tuple(self.sim.referee.attack_sign), default=default)
+        if self.reward_terms is not None:  # reward= first; reward_fn sees it as its default
+            default = self.reward_terms(reward_input)
+            if self.reward_fn is None:
+                return default
+            reward_input = replace(reward_input, default=default)
+        shaped = self.reward_fn(reward_input)
         missing = [a for a in agents if a not in shaped]
         if missing:
             raise ConfigError(f"reward_fn: returned no reward for agents {missing}")
