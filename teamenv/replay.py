@@ -1,9 +1,35 @@
-"""Replays: per-cycle positions, play mode and score of a match, saved as a compressed .npz."""
+"""Replays: per-cycle positions, play mode, score, kicks, touches, falls and messages of a match
+(and, optionally, each agent's belief and roles), saved as a compressed .npz.
+
+Format 2 adds to format 1 (which still loads; its new fields are None):
+
+- ``attack_sign`` (T,) int8: +1 when the left side attacks +x in that row (sides change at half
+  time);
+- ``fallen`` (T, 2N) bool;
+- kicks ``kick_cycle`` (K,) int32 (the row the kick happened in), ``kick_player`` (K,) int16,
+  ``kick_distance`` (K,) float32 metres, ``kick_direction`` (K,) float32 world radians;
+- physics touches ``touch_cycle``/``touch_player`` (M,): a player's body touched the ball;
+- goals ``goal_cycle``/``goal_team`` (0 left, 1 right)/``goal_player`` (-1: nobody touched);
+- messages, per row and agent: ``say_bytes`` (T, 2N) uint8, the length of what the agent said
+  that cycle as the listeners got it (0: silent, or a message dropped whole as illegal);
+  ``say_drops`` (T, 2N) uint16, the channel's drop records of the agent's message (one per
+  listener that lost it; one for a message dropped whole); ``heard_from`` (T, 2N) uint32, a
+  bit mask of the speakers (bit k = player k) each agent heard that cycle (itself included).
+
+Extras (``ReplayRecorder(env, extras=True)``; empty otherwise): what each agent believed, from
+the optional team hook ``annotations()`` (see ``ANNOTATION_KEYS``), in the world frame:
+``belief_pose`` (T, 2N, 3) float16 x, y, heading (NaN: not given), ``belief_ball`` (T, 2N, 2)
+float16, ``role`` (T, 2N) int8 (the agent's own role index, -1: not given) and ``role_vector``
+(T, 2N, N) int8 (the team's role assignment as the agent holds it, -1: not given).
+"""
 
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
+import math
+import zipfile
+from collections.abc import Mapping
+from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
@@ -11,13 +37,27 @@ import numpy as np
 
 from teamenv.errors import ConfigError
 
-REPLAY_FORMAT = 1
+REPLAY_FORMAT = 2
+READABLE_FORMATS = (1, 2)
+#: What a team's optional ``annotations()`` may give per agent name, in the team's own frame
+#: (attacking +x, as its observations): ``pose`` (x, y, heading) m/rad, ``ball`` (x, y) m,
+#: ``role`` int, ``role_vector`` sequence of N ints (the team's assignment as the agent holds
+#: it). Every key is optional; an agent left out is recorded as unknown.
+ANNOTATION_KEYS = ("pose", "ball", "role", "role_vector")
+_FORMAT_2_ARRAYS = ("attack_sign", "fallen", "kick_cycle", "kick_player", "kick_distance",
+                    "kick_direction", "touch_cycle", "touch_player", "goal_cycle", "goal_team",
+                    "goal_player", "say_bytes", "say_drops", "heard_from")
+_EXTRA_ARRAYS = ("belief_pose", "belief_ball", "role", "role_vector")
 
 
 @dataclass(frozen=True)
 class Replay:
     """A recorded match: ``ball`` (T, 4) x, y, vx, vy; ``players`` (T, 2N, 3) x, y, heading;
-    ``play_mode`` (T,); ``score`` (T, 2); ``time_s`` (T,); world frame, metres/radians."""
+    ``play_mode`` (T,); ``score`` (T, 2); ``time_s`` (T,); world frame, metres/radians.
+
+    Row 0 is the state after ``reset``, row t the state after step t. The other fields are
+    described in the module docstring; they are None in a format-1 replay (and the extras
+    also when the match was recorded without them)."""
 
     ball: np.ndarray
     players: np.ndarray
@@ -25,58 +65,281 @@ class Replay:
     score: np.ndarray
     time_s: np.ndarray
     metadata: dict[str, Any]
+    attack_sign: np.ndarray | None = None
+    fallen: np.ndarray | None = None
+    kick_cycle: np.ndarray | None = None
+    kick_player: np.ndarray | None = None
+    kick_distance: np.ndarray | None = None
+    kick_direction: np.ndarray | None = None
+    touch_cycle: np.ndarray | None = None
+    touch_player: np.ndarray | None = None
+    goal_cycle: np.ndarray | None = None
+    goal_team: np.ndarray | None = None
+    goal_player: np.ndarray | None = None
+    say_bytes: np.ndarray | None = None
+    say_drops: np.ndarray | None = None
+    heard_from: np.ndarray | None = None
+    belief_pose: np.ndarray | None = None
+    belief_ball: np.ndarray | None = None
+    role: np.ndarray | None = None
+    role_vector: np.ndarray | None = None
 
     @property
     def team_size(self) -> int:
         return self.players.shape[1] // 2
+
+    @property
+    def has_events(self) -> bool:
+        """True when kicks, touches, falls and messages were recorded (format 2)."""
+        return self.kick_cycle is not None
+
+    @property
+    def has_extras(self) -> bool:
+        """True when the agents' beliefs and roles were recorded."""
+        return self.role is not None
 
     def __len__(self) -> int:
         return len(self.time_s)
 
 
 class ReplayRecorder:
-    """Records a SoccerParallelEnv cycle by cycle (call ``record()`` after reset and each step)."""
+    """Records a SoccerParallelEnv cycle by cycle (call ``record()`` after reset and each step).
 
-    def __init__(self, env: Any) -> None:
+    ``extras``: also record each agent's belief and roles from the teams' optional
+    ``annotations()`` hook (a team without it is recorded as unknown). Recording reads the env
+    and never changes it: a match plays the same with or without a recorder.
+    """
+
+    def __init__(self, env: Any, extras: bool = False) -> None:
         self.env = env
+        self.extras = bool(extras)
+        self.n = 2 * env.team_size
+        if self.n > 32:
+            raise ConfigError(f"replay: {self.n} players do not fit the 32-bit heard_from mask")
         self._ball: list[np.ndarray] = []
         self._players: list[np.ndarray] = []
         self._mode: list[int] = []
         self._score: list[tuple[int, int]] = []
         self._time: list[float] = []
+        self._sign: list[int] = []
+        self._fallen: list[np.ndarray] = []
+        self._kicks: list[tuple[int, int, float, float]] = []
+        self._touches: list[tuple[int, int]] = []
+        self._goals: list[tuple[int, int, int]] = []
+        self._talk: list[tuple[int, np.ndarray, np.ndarray, np.ndarray]] = []
+        self._pose: list[np.ndarray] = []
+        self._belief_ball: list[np.ndarray] = []
+        self._role: list[np.ndarray] = []
+        self._role_vector: list[np.ndarray] = []
+        self._bits = np.left_shift(np.uint32(1), np.arange(self.n, dtype=np.uint32))
 
     def record(self) -> None:
         sim = self.env.sim
+        row = len(self._time)
         self._ball.append(sim.world.ball_state().astype(np.float32))
         self._players.append(sim.world.player_poses().astype(np.float32))
-        self._mode.append(int(sim.referee.mode))
-        self._score.append(tuple(sim.referee.score))
-        self._time.append(sim.referee.time_s)
+        ref = sim.referee
+        self._mode.append(int(ref.mode))
+        self._score.append(tuple(ref.score))
+        self._time.append(ref.time_s)
+        self._sign.append(int(ref.attack_sign[0]))
+        self._fallen.append(np.asarray(sim.bodies.fallen, dtype=bool).copy())
+        if row > 0:  # row 0 is the state after reset: nothing happened before it
+            report = self.env.last_report
+            self._kicks.extend((row, int(p), float(d), float(a)) for p, d, a in report.kicks)
+            self._touches.extend((row, int(p)) for p in sim.world.touches)
+            for event in report.referee:
+                if event.kind == "goal":
+                    player = -1 if event.player is None else int(event.player)
+                    self._goals.append((row, int(event.team), player))
+            if report.delivery is not None:
+                self._talk.append((row, *self._messages(report.delivery)))
+        if self.extras:
+            self._annotate(ref.attack_sign)
+
+    def _messages(self, delivery: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(say_bytes, say_drops, heard_from) of one delivery, each (2N,)."""
+        n = self.n
+        said = np.zeros(n, np.uint8)
+        drops = np.zeros(n, np.uint16)
+        heard = np.zeros(n, np.uint32)
+        if delivery.pairs is not None:
+            listener, speaker, texts, *_ = delivery.pairs
+        else:
+            flat = [(i, h.speaker, h.text) for i, got in enumerate(delivery.heard) for h in got]
+            listener = np.array([f[0] for f in flat], dtype=np.intp)
+            speaker = np.array([f[1] for f in flat], dtype=np.intp)
+            texts = np.array([f[2] for f in flat], dtype=object)
+        if len(listener):
+            np.bitwise_or.at(heard, listener, self._bits[speaker])
+            first = np.unique(speaker, return_index=True)[1]
+            said[speaker[first]] = [min(len(t), 255) for t in texts[first]]
+        drop_speaker = delivery.drop_arrays()[0]
+        if len(drop_speaker):
+            np.add.at(drops, drop_speaker, 1)
+        return said, drops, heard
+
+    def _annotate(self, attack_sign: list[float]) -> None:
+        n, size = self.n, self.env.team_size
+        pose = np.full((n, 3), np.nan, np.float32)
+        ball = np.full((n, 2), np.nan, np.float32)
+        role = np.full(n, -1, np.int8)
+        vector = np.full((n, size), -1, np.int8)
+        for side_index, side in enumerate(("left", "right")):
+            team = getattr(self.env, "teams", {}).get(side)
+            hook = getattr(team, "annotations", None)
+            if hook is None:
+                continue
+            sign = float(attack_sign[side_index])
+            for agent, values in (hook() or {}).items():
+                i = _player_index(agent, side, size)
+                _fill_annotation(values, i, sign, pose, ball, role, vector, agent)
+        self._pose.append(pose)
+        self._belief_ball.append(ball)
+        self._role.append(role)
+        self._role_vector.append(vector)
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """Everything recorded so far, as the arrays a replay file holds (no metadata)."""
+        t, n = len(self._time), self.n
+        say_bytes = np.zeros((t, n), np.uint8)
+        say_drops = np.zeros((t, n), np.uint16)
+        heard_from = np.zeros((t, n), np.uint32)
+        for row, said, drops, heard in self._talk:
+            say_bytes[row], say_drops[row], heard_from[row] = said, drops, heard
+        kicks = np.asarray(self._kicks, dtype=np.float64).reshape(-1, 4)
+        touches = np.asarray(self._touches, dtype=np.int64).reshape(-1, 2)
+        goals = np.asarray(self._goals, dtype=np.int64).reshape(-1, 3)
+        out = {
+            "ball": np.stack(self._ball), "players": np.stack(self._players),
+            "play_mode": np.asarray(self._mode, np.int8),
+            "score": np.asarray(self._score, np.int16),
+            "time_s": np.asarray(self._time, np.float64),
+            "attack_sign": np.asarray(self._sign, np.int8),
+            "fallen": np.stack(self._fallen) if self._fallen else np.zeros((0, n), bool),
+            "kick_cycle": kicks[:, 0].astype(np.int32), "kick_player": kicks[:, 1].astype(np.int16),
+            "kick_distance": kicks[:, 2].astype(np.float32),
+            "kick_direction": kicks[:, 3].astype(np.float32),
+            "touch_cycle": touches[:, 0].astype(np.int32),
+            "touch_player": touches[:, 1].astype(np.int16),
+            "goal_cycle": goals[:, 0].astype(np.int32), "goal_team": goals[:, 1].astype(np.int8),
+            "goal_player": goals[:, 2].astype(np.int16),
+            "say_bytes": say_bytes, "say_drops": say_drops, "heard_from": heard_from,
+        }
+        if self.extras:
+            out["belief_pose"] = np.stack(self._pose).astype(np.float16)
+            out["belief_ball"] = np.stack(self._belief_ball).astype(np.float16)
+            out["role"] = np.stack(self._role)
+            out["role_vector"] = np.stack(self._role_vector)
+        return out
 
     def save(self, path: str | Path, metadata: dict[str, Any]) -> Path:
         path = Path(path)
         path.parent.mkdir(parents=True, exist_ok=True)
         meta = dict(metadata, format=REPLAY_FORMAT, field=self.env.field.name,
-                    team_size=self.env.team_size, cycle_s=self.env.physics.cycle_s)
+                    team_size=self.env.team_size, cycle_s=self.env.physics.cycle_s,
+                    half_length=float(self.env.field.half_length),
+                    half_width=float(self.env.field.half_width),
+                    half_goal_width=float(self.env.field.half_goal_width),
+                    extras=self.extras)
         with open(path, "wb") as fh:
-            np.savez_compressed(
-                fh, ball=np.stack(self._ball), players=np.stack(self._players),
-                play_mode=np.asarray(self._mode, np.int8), score=np.asarray(self._score, np.int16),
-                time_s=np.asarray(self._time, np.float64),
-                metadata=np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8))
+            np.savez_compressed(fh, **self.arrays(),
+                                metadata=np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8))
         return path
 
 
+def _player_index(agent: Any, side: str, team_size: int) -> int:
+    prefix = f"{side}_"
+    if not isinstance(agent, str) or not agent.startswith(prefix):
+        raise ConfigError(f"replay annotations: {side} team named agent {agent!r}, "
+                          f"expected {prefix}1..{prefix}{team_size}")
+    try:
+        unum = int(agent[len(prefix):])
+    except ValueError:
+        unum = 0
+    if not 1 <= unum <= team_size:
+        raise ConfigError(f"replay annotations: {side} team named agent {agent!r}, "
+                          f"expected {prefix}1..{prefix}{team_size}")
+    return (0 if side == "left" else team_size) + unum - 1
+
+
+def _fill_annotation(values: Mapping[str, Any], i: int, sign: float, pose: np.ndarray,
+                     ball: np.ndarray, role: np.ndarray, vector: np.ndarray, agent: str) -> None:
+    """One agent's annotation, from its team's frame into the world frame (x, y times the
+    side's attack sign; heading turned by pi when it attacks -x)."""
+    unknown = set(values) - set(ANNOTATION_KEYS)
+    if unknown:
+        raise ConfigError(f"replay annotations of {agent!r}: unknown key(s) {sorted(unknown)}; "
+                          f"known: {list(ANNOTATION_KEYS)}")
+    if values.get("pose") is not None:
+        x, y, h = (float(v) for v in values["pose"])
+        pose[i] = (sign * x, sign * y, math.remainder(h + (0.0 if sign > 0 else math.pi),
+                                                      2.0 * math.pi))
+    if values.get("ball") is not None:
+        bx, by = (float(v) for v in values["ball"])
+        ball[i] = (sign * bx, sign * by)
+    if values.get("role") is not None:
+        role[i] = int(values["role"])
+    if values.get("role_vector") is not None:
+        v = np.asarray(values["role_vector"], dtype=np.int64).ravel()
+        if v.size != vector.shape[1]:
+            raise ConfigError(f"replay annotations of {agent!r}: role_vector has {v.size} "
+                              f"entries, expected {vector.shape[1]}")
+        vector[i] = v
+
+
 def load_replay(path: str | Path) -> Replay:
-    """Load a replay written by ReplayRecorder; a malformed file raises ConfigError."""
+    """Load a replay written by ReplayRecorder (format 1 or 2).
+
+    A missing, truncated or malformed file raises ConfigError naming the file and what is
+    wrong with it."""
+    name = str(path)
     try:
         with np.load(Path(path), allow_pickle=False) as data:
+            keys = set(data.files)
+            if "metadata" not in keys:
+                raise ConfigError(f"replay {name!r}: not a teamenv replay file (no metadata; "
+                                  f"it holds {sorted(keys)})")
             meta = json.loads(bytes(data["metadata"]).decode())
-            replay = Replay(data["ball"], data["players"], data["play_mode"], data["score"],
-                            data["time_s"], meta)
-    except (OSError, KeyError, ValueError) as exc:
-        raise ConfigError(f"replay {str(path)!r}: not a teamenv replay file ({exc})") from exc
-    if meta.get("format") != REPLAY_FORMAT:
-        raise ConfigError(f"replay {str(path)!r}: format {meta.get('format')!r}, "
-                          f"expected {REPLAY_FORMAT}")
-    return replay
+            if not isinstance(meta, dict) or meta.get("format") not in READABLE_FORMATS:
+                got = meta.get("format") if isinstance(meta, dict) else meta
+                raise ConfigError(f"replay {name!r}: format {got!r}, this teamenv reads "
+                                  f"formats {list(READABLE_FORMATS)}")
+            wanted = ["ball", "players", "play_mode", "score", "time_s"]
+            if meta["format"] >= 2:
+                wanted += _FORMAT_2_ARRAYS
+            missing = [k for k in wanted if k not in keys]
+            if missing:
+                raise ConfigError(f"replay {name!r}: format {meta['format']} but the array(s) "
+                                  f"{missing} are missing")
+            if meta.get("extras"):
+                wanted += [k for k in _EXTRA_ARRAYS if k in keys]
+            arrays = {k: data[k] for k in wanted}
+    except ConfigError:
+        raise
+    except (OSError, KeyError, ValueError, EOFError, zipfile.BadZipFile,
+            UnicodeDecodeError) as exc:
+        raise ConfigError(f"replay {name!r}: not a readable teamenv replay file "
+                          f"({type(exc).__name__}: {exc})") from exc
+    _check_shapes(name, arrays)
+    known = {f.name for f in fields(Replay)}
+    return Replay(metadata=meta, **{k: v for k, v in arrays.items() if k in known})
+
+
+def _check_shapes(name: str, arrays: dict[str, np.ndarray]) -> None:
+    """Per-cycle arrays agree in length; players is (T, 2N, 3); events point at real rows."""
+    t = len(arrays["time_s"])
+    players = arrays["players"]
+    if players.ndim != 3 or players.shape[2] != 3 or players.shape[1] % 2:
+        raise ConfigError(f"replay {name!r}: players has shape {players.shape}, "
+                          "expected (cycles, 2 x team size, 3)")
+    per_cycle = ("ball", "players", "play_mode", "score", "attack_sign", "fallen", "say_bytes",
+                 "say_drops", "heard_from", "belief_pose", "belief_ball", "role", "role_vector")
+    for key in per_cycle:
+        if key in arrays and len(arrays[key]) != t:
+            raise ConfigError(f"replay {name!r}: {key} has {len(arrays[key])} rows but time_s "
+                              f"has {t}")
+    for key in ("kick_cycle", "touch_cycle", "goal_cycle"):
+        if key in arrays and arrays[key].size and (arrays[key].min() < 0 or
+                                                   arrays[key].max() >= t):
+            raise ConfigError(f"replay {name!r}: {key} points outside the {t} recorded cycles")
