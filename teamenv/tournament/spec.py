@@ -7,6 +7,8 @@ A spec names a team plugin (a registered entry-point name such as ``chaser``, or
     chaser:all_chase=true
     formation:cfg=defensive
     my_pkg.teams:MyTeam:depth=0.4,name='left wing'
+    full@opt1        (the config of the team override file opt1, e.g. from ``teamenv optimize``)
+    full@opt1:pressure_m=3
 
 Override values are parsed as bool (``true``/``false``), ``none``, int, finite float, or else
 string; quote a value (``'1'``) to keep it a string. Commas cannot appear inside values.
@@ -91,15 +93,25 @@ def parse_team_spec(spec: str | TeamSpec) -> TeamSpec:
         raise TeamSpecError(f"team spec {spec!r}: overrides must look like "
                             "'name:key=value,key2=value2'")
     config: dict[str, Scalar] = {}
+    inline: set[str] = set()
+    if "@" in name:  # name@file: the config of a team override file (teamenv.optimize.overrides)
+        name, _, file = name.partition("@")
+        from teamenv.optimize.overrides import load_team_override
+
+        try:
+            config.update(load_team_override(file, name))
+        except ConfigError as exc:
+            raise TeamSpecError(f"team spec {spec!r}: {exc}") from exc
     if overrides:
         for item in overrides.split(","):
             key, sep, raw = item.partition("=")
             key = key.strip()
             if not sep or not _KEY.fullmatch(key):
                 raise TeamSpecError(f"team spec {spec!r}: override {item!r} is not 'key=value'")
-            if key in config:
+            if key in inline:
                 raise TeamSpecError(f"team spec {spec!r}: override key {key!r} given twice")
             config[key] = parse_value(raw.strip())
+            inline.add(key)
     return TeamSpec.of(name, config)
 
 

@@ -1,0 +1,251 @@
+"""Fitness from seeded matches: each candidate plays a gauntlet against a fixed field.
+
+Generation g's candidates each get a gauntlet tournament ``RUN/gGGG/cCC`` in the results
+database, all with the tournament seed ``tune_seed + g``: every candidate meets every
+opponent on the same match seeds, from both sides (common random numbers, so the difference
+between two candidates is not the luck of their seeds). All the generation's matches go to
+one backend run (process pool, Ray or serial); each is stored as it ends, so a killed run
+loses only the matches in flight and a resume plays only the missing ones.
+
+Fitness of a candidate = mean official goal difference per match (its goals minus the
+opponent's; a forfeit counts 0-3) + ``territory_weight`` x mean territory, where territory is
+the ball's mean x position over the match in the candidate's attacking direction, in
+half-lengths of the pitch (-1 at its own goal line, +1 at the opponent's). Goals are rare in
+short matches, so goal difference alone is mostly 0; territory tells a candidate that pins
+the opponent back from one that is pinned back. It is read from each match's replay (the
+ball's track), stored per match in the database, and the replay file is deleted.
+``territory_weight=0`` gives goal difference alone (no replays recorded).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from teamenv.match import MatchOptions
+from teamenv.optimize.checkpoint import CheckpointStore, OptimizeError
+from teamenv.optimize.cmaes_loop import CandidateScore, Reporter
+from teamenv.tournament.backends import make_backend
+from teamenv.tournament.schedule import MatchTask, Tournament, gauntlet
+from teamenv.tournament.spec import TeamSpec, parse_team_spec, validate_specs
+from teamenv.tournament.store import MatchRecord, ResultStore
+
+TUNE_SEED = 7000  # generation g plays tournament seed TUNE_SEED + g (held-out checks: 9000+)
+
+
+class TournamentFitness:
+    """Scores candidates of ``team`` (a registered name or ``module:Class``, with the fixed
+    ``base_config`` under every candidate) by gauntlets against ``field_teams``.
+
+    ``games``: seeded rounds per opponent, each played from both sides (2 x games matches per
+    opponent per candidate). ``backend``/``jobs``/``ray_address``: as ``run_tournament``
+    (they do not change results, so they are not part of the definition).
+    """
+
+    def __init__(self, db: str | Path, run: str, team: str, field_teams: Sequence[str | TeamSpec],
+                 *, base_config: dict[str, Any] | None = None,
+                 options: MatchOptions | None = None, games: int = 1,
+                 tune_seed: int = TUNE_SEED, territory_weight: float = 1.0,
+                 cycle_time_budget_s: float | None = None, stall_timeout_s: float | None = 10.0,
+                 backend: str = "process", jobs: int | None = None,
+                 ray_address: str | None = None) -> None:
+        self.db = Path(db)
+        self.run = run
+        self.team = team
+        self.field = tuple(parse_team_spec(t) for t in field_teams)
+        if not self.field:
+            raise OptimizeError("--against: give at least one opponent team")
+        self.base_config = dict(base_config or {})
+        self.options = options or MatchOptions()
+        if isinstance(games, bool) or not isinstance(games, int) or games < 1:
+            raise OptimizeError(f"games: must be an int >= 1, got {games!r}")
+        self.games = games
+        if isinstance(tune_seed, bool) or not isinstance(tune_seed, int) or tune_seed < 0:
+            raise OptimizeError(f"tune seed: must be an int >= 0, got {tune_seed!r}")
+        self.tune_seed = tune_seed
+        if isinstance(territory_weight, bool) or not isinstance(territory_weight, (int, float)) \
+                or not math.isfinite(territory_weight) or territory_weight < 0:
+            raise OptimizeError(f"territory weight: must be a finite number >= 0, got "
+                                f"{territory_weight!r}")
+        self.territory_weight = float(territory_weight)
+        self.cycle_time_budget_s = cycle_time_budget_s
+        self.stall_timeout_s = stall_timeout_s
+        self.backend = backend
+        self.jobs = jobs
+        self.ray_address = ray_address
+        self.replay_dir = self.db.with_name(self.db.name + ".replays") / _safe(run)
+
+    def definition(self) -> dict[str, Any]:
+        return {"kind": "tournament", "team": self.team, "base_config": self.base_config,
+                "field": [t.to_json() for t in self.field], "options": self.options.to_dict(),
+                "games": self.games, "tune_seed": self.tune_seed,
+                "territory_weight": self.territory_weight,
+                "cycle_time_budget_s": self.cycle_time_budget_s,
+                "stall_timeout_s": self.stall_timeout_s}
+
+    @classmethod
+    def from_definition(cls, data: dict[str, Any], db: str | Path, run: str,
+                        **execution: Any) -> TournamentFitness:
+        """Rebuild the evaluator of a stored run (``execution``: backend, jobs, ray_address)."""
+        if data.get("kind") != "tournament":
+            raise OptimizeError(f"optimization run {run!r}: its fitness is {data.get('kind')!r}, "
+                                "not matches; resume it from the code that started it")
+        return cls(db, run, data["team"], [TeamSpec.of(t["name"], t["config"])
+                                           for t in data["field"]],
+                   base_config=data["base_config"], options=MatchOptions.from_dict(data["options"]),
+                   games=data["games"], tune_seed=data["tune_seed"],
+                   territory_weight=data["territory_weight"],
+                   cycle_time_budget_s=data["cycle_time_budget_s"],
+                   stall_timeout_s=data["stall_timeout_s"], **execution)
+
+    def candidate_spec(self, config: dict[str, Any]) -> TeamSpec:
+        return TeamSpec.of(self.team, {**self.base_config, **config})
+
+    def tournament(self, generation: int, index: int, config: dict[str, Any]) -> Tournament:
+        """Candidate ``index`` of ``generation``'s gauntlet (same seed for every candidate)."""
+        return gauntlet(f"{self.run}/g{generation:03d}/c{index:02d}", self.candidate_spec(config),
+                        self.field, games_per_pairing=self.games, swap_sides=True,
+                        seed=self.tune_seed + generation, options=self.options,
+                        cycle_time_budget_s=self.cycle_time_budget_s,
+                        stall_timeout_s=self.stall_timeout_s)
+
+    def evaluate(self, generation: int, configs: list[dict[str, Any]],
+                 reporter: Reporter) -> list[CandidateScore]:
+        tournaments = [self.tournament(generation, i, c) for i, c in enumerate(configs)]
+        specs = {s.label: s for t in tournaments for s in t.all_teams}
+        versions = validate_specs(list(specs.values()), self.options)
+        with ResultStore(self.db) as results, CheckpointStore(self.db) as checkpoints:
+            ids = [self._tournament_id(results, t, versions) for t in tournaments]
+            todo: list[tuple[int, MatchTask]] = []
+            for tid, t in zip(ids, tournaments, strict=True):
+                done = results.completed_indices(tid)
+                todo += [(tid, self._with_replay(t, task)) for task in t.schedule()
+                         if task.index not in done]
+            total = sum(len(t.schedule()) for t in tournaments)
+            reporter.generation_started(generation, 0, total, total - len(todo))
+            self._play(results, checkpoints, todo, reporter)
+            return [self._score(results, checkpoints, tid, t) for tid, t in
+                    zip(ids, tournaments, strict=True)]
+
+    def _tournament_id(self, results: ResultStore, tournament: Tournament,
+                       versions: dict[str, str]) -> int:
+        found = results.find_tournament(tournament.name)
+        if found is None:
+            return results.create_tournament(tournament, {s.label: versions[s.label]
+                                                          for s in tournament.all_teams})
+        tid, stored = found
+        if stored.definition_hash() != tournament.definition_hash():
+            raise OptimizeError(f"tournament {tournament.name!r} in {str(self.db)!r} has another "
+                                "definition than this run's candidate; use a new run name")
+        stored_versions = results.team_versions(tid)
+        changed = {s.label: (stored_versions.get(s.label), versions[s.label])
+                   for s in tournament.all_teams
+                   if stored_versions.get(s.label) != versions[s.label]}
+        if changed:
+            raise OptimizeError(f"tournament {tournament.name!r}: team versions changed since it "
+                                f"started {changed} (stored, now); start a new run")
+        return tid
+
+    def _with_replay(self, tournament: Tournament, task: MatchTask) -> MatchTask:
+        if self.territory_weight == 0:
+            return task
+        path = self.replay_dir / f"{_safe(tournament.name)}-{task.index:04d}.npz"
+        return replace(task, replay_path=str(path))
+
+    def _play(self, results: ResultStore, checkpoints: CheckpointStore,
+              todo: list[tuple[int, MatchTask]], reporter: Reporter) -> None:
+        if not todo:
+            return
+        runner = make_backend(self.backend, self.jobs, self.ray_address)
+        prepare = getattr(runner, "prepare", None)
+        if prepare is not None:
+            prepare(sorted({self.team} | {s.name for s in self.field}))
+        tid_of = {id(task): tid for tid, task in todo}
+        by_key = {(tid, task.index): task for tid, task in todo}
+        failures = []
+        outcomes = runner.run([task for _, task in todo])
+        try:
+            for outcome in outcomes:
+                task = outcome.task
+                tid = tid_of.get(id(task))
+                if tid is None:  # a backend that copied the task (Ray): find it by index/key
+                    tid = next(t for (t, i), tk in by_key.items()
+                               if i == task.index and tk.key == task.key
+                               and tk.replay_path == task.replay_path)
+                if outcome.result is None:
+                    results.record_failure(tid, task, outcome.error or "unknown error")
+                    failures.append(f"{task.pairing} seed {task.seed}: {outcome.error}")
+                    continue
+                results.record_match(tid, task, outcome.result)
+                if task.replay_path is not None:  # the metric now, then the replay can go
+                    record = _record_of(results, tid, task.index)
+                    checkpoints.save_match_metric(record.id, territory_of(record))
+                    Path(task.replay_path).unlink(missing_ok=True)
+                score = outcome.result.score
+                reporter.match_done(f"{_short(task.left.label)} {score[0]}-{score[1]} "
+                                    f"{_short(task.right.label)}")
+        finally:
+            outcomes.close()
+        if failures:
+            raise OptimizeError(f"{len(failures)} match(es) could not be played: "
+                                f"{failures[:3]}; fix the cause and --resume")
+
+    def _score(self, results: ResultStore, checkpoints: CheckpointStore, tid: int,
+               tournament: Tournament) -> CandidateScore:
+        records = results.matches(tid)
+        if len(records) != len(tournament.schedule()):
+            raise OptimizeError(f"tournament {tournament.name!r}: {len(records)} of "
+                                f"{len(tournament.schedule())} matches stored; --resume")
+        me = tournament.challenger.label if tournament.challenger else ""
+        sign = [1.0 if r.left_team == me else -1.0 for r in records]
+        gd = float(np.mean([s * (r.left_official - r.right_official)
+                            for s, r in zip(sign, records, strict=True)]))
+        if self.territory_weight == 0:
+            return CandidateScore(gd, gd, None, len(records))
+        metrics = checkpoints.match_metrics([r.id for r in records])
+        territory = []
+        for s, r in zip(sign, records, strict=True):
+            value = metrics.get(r.id)
+            if value is None:  # killed between storing the match and its metric
+                value = territory_of(r)
+                checkpoints.save_match_metric(r.id, value)
+                if r.replay_path:
+                    Path(r.replay_path).unlink(missing_ok=True)
+            territory.append(s * value)
+        terr = float(np.mean(territory))
+        return CandidateScore(gd + self.territory_weight * terr, gd, terr, len(records))
+
+
+def territory_of(record: MatchRecord) -> float:
+    """The ball's mean x over the match from its replay, in half-lengths, for the left side
+    (the world frame: the left side attacks +x)."""
+    from teamenv.field import field_preset
+    from teamenv.replay import load_replay
+
+    if not record.replay_path or not Path(record.replay_path).is_file():
+        raise OptimizeError(f"match {record.id} ({record.pairing}, seed {record.seed}): its "
+                            f"replay {record.replay_path!r} is missing, so its territory cannot "
+                            "be computed; start a new run")
+    replay = load_replay(record.replay_path)
+    half = field_preset(replay.metadata["field"]).half_length
+    return float(np.mean(np.clip(replay.ball[:, 0].astype(np.float64) / half, -1.0, 1.0)))
+
+
+def _record_of(results: ResultStore, tid: int, index: int) -> MatchRecord:
+    for record in results.matches(tid):
+        if record.idx == index:
+            return record
+    raise OptimizeError(f"match #{index} of tournament {tid} was not stored")
+
+
+def _safe(name: str) -> str:
+    return "".join(c if c.isalnum() or c in "-_" else "_" for c in name)
+
+
+def _short(label: str) -> str:
+    return label if len(label) <= 24 else label[:21] + "..."
