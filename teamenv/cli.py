@@ -108,6 +108,9 @@ def build_parser() -> argparse.ArgumentParser:
         pass
     else:
         add_tournament_commands(sub)
+    from teamenv.optimize.cli import add_parser as add_optimize_command
+
+    add_optimize_command(sub)
     return parser
 
 
