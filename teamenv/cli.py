@@ -101,6 +101,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_match(sub)
     _add_render(sub)
     _add_teams(sub)
+    __import__("teamenv.analytics.cli", fromlist=["add_parser"]).add_parser(sub)  # stats, report
     add_view_parser(sub)
     try:
         from teamenv.tournament.cli import add_tournament_commands
