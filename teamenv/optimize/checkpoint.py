@@ -6,7 +6,7 @@ Tables (created on first use, beside the tournament store's):
                          (unit vectors), the CMA-ES state right after ``ask`` (pickled), and,
                          once every candidate is scored, the scores and the distribution after
                          ``tell``;
-  optimize_match_metrics the finer fitness metric of each stored match (keyed by match id).
+  optimize_match_metrics the finer fitness metric of each stored match (by match id, metric).
 
 Every write is one transaction (WAL, ``synchronous=FULL``), so a killed run finds either the
 generation it was playing (its stored matches are kept by the tournament store) or the last
@@ -46,8 +46,10 @@ CREATE TABLE IF NOT EXISTS optimize_generations (
     PRIMARY KEY (run_id, generation)
 );
 CREATE TABLE IF NOT EXISTS optimize_match_metrics (
-    match_id INTEGER PRIMARY KEY,
-    territory REAL NOT NULL
+    match_id INTEGER NOT NULL,
+    metric TEXT NOT NULL,
+    value REAL NOT NULL,
+    PRIMARY KEY (match_id, metric)
 );
 """
 
@@ -137,17 +139,17 @@ class CheckpointStore:
             (json.dumps(scores), json.dumps(mean), float(sigma), float(wall_s), _utc(), run_id,
              generation))
 
-    def match_metrics(self, match_ids: list[int]) -> dict[int, float]:
-        """Stored territory of each of ``match_ids`` that has one."""
+    def match_metrics(self, metric: str, match_ids: list[int]) -> dict[int, float]:
+        """Stored value of ``metric`` for each of ``match_ids`` that has one."""
         out: dict[int, float] = {}
         for start in range(0, len(match_ids), 500):
             chunk = match_ids[start:start + 500]
             marks = ",".join("?" * len(chunk))
             out.update(self.conn.execute(
-                f"SELECT match_id, territory FROM optimize_match_metrics WHERE match_id IN "
-                f"({marks})", chunk).fetchall())
+                f"SELECT match_id, value FROM optimize_match_metrics WHERE metric = ? AND "
+                f"match_id IN ({marks})", [metric, *chunk]).fetchall())
         return out
 
-    def save_match_metric(self, match_id: int, territory: float) -> None:
-        self.conn.execute("INSERT OR REPLACE INTO optimize_match_metrics (match_id, territory) "
-                          "VALUES (?, ?)", (match_id, float(territory)))
+    def save_match_metric(self, match_id: int, metric: str, value: float) -> None:
+        self.conn.execute("INSERT OR REPLACE INTO optimize_match_metrics (match_id, metric, "
+                          "value) VALUES (?, ?, ?)", (match_id, metric, float(value)))

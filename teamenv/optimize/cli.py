@@ -44,9 +44,12 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:
                    "9000)")
     p.add_argument("--games", type=int, default=1, help="seeded rounds per opponent per "
                    "candidate, each played from both sides")
-    p.add_argument("--territory-weight", type=float, default=1.0, help="fitness = goal "
-                   "difference + this x territory (mean ball x in half-lengths, -1..1); 0: "
-                   "goal difference alone")
+    p.add_argument("--metric", choices=("territory", "xg"), default="territory",
+                   help="the finer match metric added to the goal difference: territory (mean "
+                   "ball x in half-lengths, -1..1) or xg (expected-goals difference, "
+                   "teamenv.analytics)")
+    p.add_argument("--metric-weight", type=float, default=1.0, help="fitness = goal "
+                   "difference + this x the metric; 0: goal difference alone")
     p.add_argument("--field", default="simspark", help="simspark | mj7v7 | fifa")
     p.add_argument("--team-size", type=int, default=None, help="players per side (1-11)")
     p.add_argument("--half-time", type=float, default=300.0, help="length of a half (s)")
@@ -118,7 +121,7 @@ def _run(args: argparse.Namespace) -> int:
         evaluator = TournamentFitness(
             args.db, args.name, spec.name, args.against, base_config=spec.config_dict,
             options=options, games=args.games, tune_seed=args.tune_seed,
-            territory_weight=args.territory_weight, cycle_time_budget_s=args.cycle_budget,
+            metric=args.metric, metric_weight=args.metric_weight, cycle_time_budget_s=args.cycle_budget,
             stall_timeout_s=args.stall_timeout, **execution)
         team = spec.name
     plot_path = args.plot or args.db.with_name(f"{_safe(args.name)}-convergence.png")
@@ -152,7 +155,7 @@ def _print_summary(result: Any, export: Path, plot: Path) -> None:
     if best is not None:
         g, _config, score = best
         print(f"best candidate seen: generation {g}, fitness {score['fitness']:.3f} "
-              f"(goal difference {score['goal_difference']}, territory {score['territory']})")
+              f"(goal difference {score['goal_difference']}, fine metric {score['fine']})")
     print("result (distribution mean):")
     for name, value in result.recommended.items():
         print(f"  {name} = {value!r}")

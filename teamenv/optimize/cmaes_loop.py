@@ -36,18 +36,19 @@ class CandidateScore:
     """A candidate's fitness (higher is better) and what it is made of.
 
     ``goal_difference``: mean official goal difference per match (None for a synthetic
-    fitness); ``territory``: mean ball position in the attacking direction, in half-lengths
-    (-1: at our goal line, +1: at theirs); ``matches``: matches it was scored on.
+    fitness); ``fine``: the mean of the finer match metric (``territory`` or ``xg``, see
+    ``teamenv.optimize.tournament_fitness``), None without one; ``matches``: matches it was
+    scored on.
     """
 
     fitness: float
     goal_difference: float | None = None
-    territory: float | None = None
+    fine: float | None = None
     matches: int = 0
 
     def to_json(self) -> dict[str, Any]:
         return {"fitness": self.fitness, "goal_difference": self.goal_difference,
-                "territory": self.territory, "matches": self.matches}
+                "fine": self.fine, "matches": self.matches}
 
 
 class Reporter(Protocol):

@@ -34,7 +34,7 @@ def plot_convergence(result: OptimizeResult, path: str | Path) -> Path:
     top.plot(xs, means, "o-", color="C0", label="mean of the generation")
     top.plot(xs, bests, "^-", color="C2", label="best of the generation")
     if any(v is not None for v in gds) and \
-            result.definition.get("evaluator", {}).get("territory_weight", 0):
+            result.definition.get("evaluator", {}).get("metric_weight", 0):
         top.plot(xs, gds, "s--", color="C1", label="mean goal difference part")
     top.set_ylabel("fitness (higher is better)")
     top.set_title(f"teamenv optimize {result.name!r}: {result.space.dimension} parameters, "

@@ -61,7 +61,7 @@ class RichReporter:
         parts = f"best {best.fitness:+.3f}"
         if best.goal_difference is not None:
             parts += f" (goal diff {best.goal_difference:+.2f}"
-            parts += f", territory {best.territory:+.3f})" if best.territory is not None else ")"
+            parts += f", fine metric {best.fine:+.3f})" if best.fine is not None else ")"
         self.console.print(f"generation {generation}: {parts}, mean {sum(values) / len(values):+.3f}"
                            f" over {len(values)} candidates")
         if self.gen_task is not None:

@@ -8,13 +8,15 @@ one backend run (process pool, Ray or serial); each is stored as it ends, so a k
 loses only the matches in flight and a resume plays only the missing ones.
 
 Fitness of a candidate = mean official goal difference per match (its goals minus the
-opponent's; a forfeit counts 0-3) + ``territory_weight`` x mean territory, where territory is
-the ball's mean x position over the match in the candidate's attacking direction, in
-half-lengths of the pitch (-1 at its own goal line, +1 at the opponent's). Goals are rare in
-short matches, so goal difference alone is mostly 0; territory tells a candidate that pins
-the opponent back from one that is pinned back. It is read from each match's replay (the
-ball's track), stored per match in the database, and the replay file is deleted.
-``territory_weight=0`` gives goal difference alone (no replays recorded).
+opponent's; a forfeit counts 0-3) + ``metric_weight`` x the mean of a finer match metric,
+from the candidate's side:
+  ``territory``: the ball's mean x position over the match in the candidate's attacking
+      direction, in half-lengths of the pitch (-1 at its own goal line, +1 at the other);
+  ``xg``: its expected goals minus the opponent's (``teamenv.analytics``' xG model).
+Goals are rare in short matches, so goal difference alone is mostly 0; the metric tells a
+candidate that pins the opponent back (or shoots from better places) from one that is pinned
+back. It is read from each match's replay, stored per match in the database, and the replay
+file is deleted. ``metric_weight=0`` gives goal difference alone (no replays recorded).
 """
 
 from __future__ import annotations
@@ -36,6 +38,7 @@ from teamenv.tournament.spec import TeamSpec, parse_team_spec, validate_specs
 from teamenv.tournament.store import MatchRecord, ResultStore
 
 TUNE_SEED = 7000  # generation g plays tournament seed TUNE_SEED + g (held-out checks: 9000+)
+METRICS = ("territory", "xg")
 
 
 class TournamentFitness:
@@ -50,7 +53,8 @@ class TournamentFitness:
     def __init__(self, db: str | Path, run: str, team: str, field_teams: Sequence[str | TeamSpec],
                  *, base_config: dict[str, Any] | None = None,
                  options: MatchOptions | None = None, games: int = 1,
-                 tune_seed: int = TUNE_SEED, territory_weight: float = 1.0,
+                 tune_seed: int = TUNE_SEED, metric: str = "territory",
+                 metric_weight: float = 1.0,
                  cycle_time_budget_s: float | None = None, stall_timeout_s: float | None = 10.0,
                  backend: str = "process", jobs: int | None = None,
                  ray_address: str | None = None) -> None:
@@ -68,11 +72,14 @@ class TournamentFitness:
         if isinstance(tune_seed, bool) or not isinstance(tune_seed, int) or tune_seed < 0:
             raise OptimizeError(f"tune seed: must be an int >= 0, got {tune_seed!r}")
         self.tune_seed = tune_seed
-        if isinstance(territory_weight, bool) or not isinstance(territory_weight, (int, float)) \
-                or not math.isfinite(territory_weight) or territory_weight < 0:
-            raise OptimizeError(f"territory weight: must be a finite number >= 0, got "
-                                f"{territory_weight!r}")
-        self.territory_weight = float(territory_weight)
+        if metric not in METRICS:
+            raise OptimizeError(f"metric: {metric!r}; choose one of {list(METRICS)}")
+        self.metric = metric
+        if isinstance(metric_weight, bool) or not isinstance(metric_weight, (int, float)) \
+                or not math.isfinite(metric_weight) or metric_weight < 0:
+            raise OptimizeError(f"metric weight: must be a finite number >= 0, got "
+                                f"{metric_weight!r}")
+        self.metric_weight = float(metric_weight)
         self.cycle_time_budget_s = cycle_time_budget_s
         self.stall_timeout_s = stall_timeout_s
         self.backend = backend
@@ -84,7 +91,7 @@ class TournamentFitness:
         return {"kind": "tournament", "team": self.team, "base_config": self.base_config,
                 "field": [t.to_json() for t in self.field], "options": self.options.to_dict(),
                 "games": self.games, "tune_seed": self.tune_seed,
-                "territory_weight": self.territory_weight,
+                "metric": self.metric, "metric_weight": self.metric_weight,
                 "cycle_time_budget_s": self.cycle_time_budget_s,
                 "stall_timeout_s": self.stall_timeout_s}
 
@@ -99,7 +106,7 @@ class TournamentFitness:
                                            for t in data["field"]],
                    base_config=data["base_config"], options=MatchOptions.from_dict(data["options"]),
                    games=data["games"], tune_seed=data["tune_seed"],
-                   territory_weight=data["territory_weight"],
+                   metric=data["metric"], metric_weight=data["metric_weight"],
                    cycle_time_budget_s=data["cycle_time_budget_s"],
                    stall_timeout_s=data["stall_timeout_s"], **execution)
 
@@ -152,7 +159,7 @@ class TournamentFitness:
         return tid
 
     def _with_replay(self, tournament: Tournament, task: MatchTask) -> MatchTask:
-        if self.territory_weight == 0:
+        if self.metric_weight == 0:
             return task
         path = self.replay_dir / f"{_safe(tournament.name)}-{task.index:04d}.npz"
         return replace(task, replay_path=str(path))
@@ -184,7 +191,8 @@ class TournamentFitness:
                 results.record_match(tid, task, outcome.result)
                 if task.replay_path is not None:  # the metric now, then the replay can go
                     record = _record_of(results, tid, task.index)
-                    checkpoints.save_match_metric(record.id, territory_of(record))
+                    checkpoints.save_match_metric(record.id, self.metric,
+                                                  self.metric_of(record))
                     Path(task.replay_path).unlink(missing_ok=True)
                 score = outcome.result.score
                 reporter.match_done(f"{_short(task.left.label)} {score[0]}-{score[1]} "
@@ -205,35 +213,51 @@ class TournamentFitness:
         sign = [1.0 if r.left_team == me else -1.0 for r in records]
         gd = float(np.mean([s * (r.left_official - r.right_official)
                             for s, r in zip(sign, records, strict=True)]))
-        if self.territory_weight == 0:
+        if self.metric_weight == 0:
             return CandidateScore(gd, gd, None, len(records))
-        metrics = checkpoints.match_metrics([r.id for r in records])
-        territory = []
+        metrics = checkpoints.match_metrics(self.metric, [r.id for r in records])
+        fine = []
         for s, r in zip(sign, records, strict=True):
             value = metrics.get(r.id)
             if value is None:  # killed between storing the match and its metric
-                value = territory_of(r)
-                checkpoints.save_match_metric(r.id, value)
+                value = self.metric_of(r)
+                checkpoints.save_match_metric(r.id, self.metric, value)
                 if r.replay_path:
                     Path(r.replay_path).unlink(missing_ok=True)
-            territory.append(s * value)
-        terr = float(np.mean(territory))
-        return CandidateScore(gd + self.territory_weight * terr, gd, terr, len(records))
+            fine.append(s * value)
+        mean = float(np.mean(fine))
+        return CandidateScore(gd + self.metric_weight * mean, gd, mean, len(records))
+
+    def metric_of(self, record: MatchRecord) -> float:
+        """The metric of a stored match for its *left* side, from its replay."""
+        from teamenv.replay import load_replay
+
+        if not record.replay_path or not Path(record.replay_path).is_file():
+            raise OptimizeError(f"match {record.id} ({record.pairing}, seed {record.seed}): "
+                                f"its replay {record.replay_path!r} is missing, so its "
+                                f"{self.metric} cannot be computed; start a new run")
+        replay = load_replay(record.replay_path)
+        if self.metric == "xg":
+            from teamenv.analytics.stats import match_stats
+
+            stats = match_stats(replay)
+            return float(stats.left.xg - stats.right.xg)
+        return territory(replay)
 
 
-def territory_of(record: MatchRecord) -> float:
-    """The ball's mean x over the match from its replay, in half-lengths, for the left side
-    (the world frame: the left side attacks +x)."""
+def territory(replay: Any) -> float:
+    """The ball's mean x over a replay in half-lengths, from the left side's view (the left
+    side attacks +x, or the way ``attack_sign`` says where sides change at half time)."""
     from teamenv.field import field_preset
-    from teamenv.replay import load_replay
 
-    if not record.replay_path or not Path(record.replay_path).is_file():
-        raise OptimizeError(f"match {record.id} ({record.pairing}, seed {record.seed}): its "
-                            f"replay {record.replay_path!r} is missing, so its territory cannot "
-                            "be computed; start a new run")
-    replay = load_replay(record.replay_path)
-    half = field_preset(replay.metadata["field"]).half_length
-    return float(np.mean(np.clip(replay.ball[:, 0].astype(np.float64) / half, -1.0, 1.0)))
+    meta = replay.metadata
+    half = float(meta["half_length"]) if "half_length" in meta else \
+        field_preset(meta["field"]).half_length
+    x = replay.ball[:, 0].astype(np.float64) / half
+    sign = getattr(replay, "attack_sign", None)
+    if sign is not None:
+        x = x * sign.astype(np.float64)
+    return float(np.mean(np.clip(x, -1.0, 1.0)))
 
 
 def _record_of(results: ResultStore, tid: int, index: int) -> MatchRecord:
