@@ -76,6 +76,10 @@ class _Handler(BaseHTTPRequestHandler):
             self._json({"error": str(exc)}, exc.status)
         except TeamEnvError as exc:
             self._json({"error": str(exc)}, HTTPStatus.UNPROCESSABLE_ENTITY)
+        except Exception as exc:  # noqa: BLE001 - the page shows it; the server keeps serving
+            self.log_error("%s failed: %r", path, exc)
+            self._json({"error": f"{path}: {type(exc).__name__}: {exc}"},
+                       HTTPStatus.INTERNAL_SERVER_ERROR)
 
     def _route(self, path: str) -> None:
         source = self.viewer.source
@@ -83,6 +87,8 @@ class _Handler(BaseHTTPRequestHandler):
             return self._static("index.html")
         if path.startswith("/static/"):
             return self._static(path[len("/static/"):])
+        if path == "/favicon.ico":
+            return self._send(b"", "image/x-icon", HTTPStatus.NO_CONTENT)
         if path == "/api/source":
             return self._json(source.describe())
         if path == "/api/matches":
@@ -92,7 +98,7 @@ class _Handler(BaseHTTPRequestHandler):
             raise ViewerError(f"no page {path!r}", status=404)
         match_id, what = int(found.group(1)), found.group(2)
         if what == "stats":
-            return self._json(match_stats(source.replay(match_id)))
+            return self._json(self.viewer.stats(match_id))
         header, blob = self.viewer.encoded(match_id)
         if what == "header":
             return self._json(header)
@@ -127,6 +133,7 @@ class ViewerServer:
         self.source = source
         self.verbose = verbose
         self._encoded: dict[int, tuple[dict[str, Any], bytes]] = {}
+        self._stats: dict[int, dict[str, Any]] = {}
         self._lock = threading.Lock()
         try:
             self.httpd = ThreadingHTTPServer((host, port), partial(_Handler, viewer=self))
@@ -146,6 +153,12 @@ class ViewerServer:
             if match_id not in self._encoded:
                 self._encoded = {match_id: encode_replay(self.source.replay(match_id), match_id)}
             return self._encoded[match_id]
+
+    def stats(self, match_id: int) -> dict[str, Any]:
+        """``match_stats`` of one match, computed once (a full match takes ~1 s)."""
+        if match_id not in self._stats:
+            self._stats = {match_id: match_stats(self.source.replay(match_id))}
+        return self._stats[match_id]
 
     def start(self) -> ViewerServer:
         self._thread = threading.Thread(target=self.httpd.serve_forever, daemon=True,

@@ -321,6 +321,14 @@
       ctx.stroke();
     }
     const heard = [];
+    if (shown.heard && state.selected === null && arrays.say_bytes) {  // who spoke this cycle
+      ctx.fillStyle = "rgb(255,230,80)";
+      for (let i = 0; i < n2; i++) {
+        if (!arrays.say_bytes[c * n2 + i]) continue;
+        const [px, py] = toPixel(players[i][0], players[i][1]);
+        ctx.beginPath(); ctx.arc(px - radius, py - radius, 2.5 * dpr, 0, 2 * Math.PI); ctx.fill();
+      }
+    }
     if (shown.heard) {  // a line from each speaker to the followed listener
       ctx.lineWidth = 1.5 * dpr;
       for (let i = 0; i < n2; i++) {
@@ -496,19 +504,36 @@
     body.replaceChildren(t);
   }
 
-  // MatchStats JSON: a per-side table when it has "left" and "right" objects, else key: value.
+  // MatchStats.to_json(): one row per number of `teams.left` / `teams.right` (dicts of
+  // numbers become "name: key" rows, per-player lists are left out), then the match's numbers.
   function statsTable(stats) {
     const t = el("table");
-    const sides = stats && stats.left && stats.right && typeof stats.left === "object";
-    if (sides) {
-      t.appendChild(row(["", state.header.left || "left", state.header.right || "right"], true));
-      const keys = Object.keys(stats.left);
-      for (const k of keys) t.appendChild(row([k, fmt(stats.left[k]), fmt(stats.right[k])]));
-      for (const [k, v] of Object.entries(stats)) {
-        if (k !== "left" && k !== "right") t.appendChild(row([k, fmt(v), ""]));
+    const teams = stats && stats.teams;
+    if (teams && teams.left && teams.right) {
+      t.appendChild(row(["", teams.left.team || "left", teams.right.team || "right"], true));
+      const label = (k) => k.replace(/_/g, " ");
+      for (const [k, v] of Object.entries(teams.left)) {
+        if (k === "side" || k === "team" || Array.isArray(v)) continue;
+        const w = teams.right[k];
+        if (v !== null && typeof v === "object") {
+          for (const [sub, x] of Object.entries(v)) {
+            if (x !== null && typeof x === "object") {  // e.g. set plays: awarded (taken)
+              const y = (w || {})[sub] || {};
+              if (!x.awarded && !y.awarded) continue;
+              t.appendChild(row([`${label(k)}: ${sub} (taken)`, `${fmt(x.awarded)} (${fmt(x.taken)})`,
+                `${fmt(y.awarded)} (${fmt(y.taken)})`]));
+            } else {
+              t.appendChild(row([`${label(k)}: ${label(sub)}`, fmt(x), fmt((w || {})[sub])]));
+            }
+          }
+        } else {
+          t.appendChild(row([label(k), fmt(v), fmt(w)]));
+        }
       }
-    } else {
-      for (const [k, v] of Object.entries(stats || {})) t.appendChild(row([k, fmt(v)]));
+    }
+    for (const [k, v] of Object.entries(stats || {})) {
+      if (k === "teams" || (v !== null && typeof v === "object")) continue;
+      t.appendChild(row([k.replace(/_/g, " "), fmt(v), ""]));
     }
     return t;
   }
