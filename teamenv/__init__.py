@@ -14,9 +14,13 @@ from teamenv.errors import (
     TeamLoadError,
 )
 from teamenv.field import FIELD_PRESETS, FieldSpec, field_preset
+from teamenv.registration import register_envs
+from teamenv.scenarios import SCENARIOS, scenario_names
 from teamenv.sim.playmode import PLAY_MODES, PlayMode
 
 __version__ = "0.1.0"
+
+register_envs()  # gymnasium.make("teamenv/Player-v0"), "teamenv/Team-v0"
 
 
 def env(**kwargs: Any):
@@ -28,7 +32,7 @@ def env(**kwargs: Any):
 
 __all__ = [
     "ActionError", "ConfigError", "FIELD_PRESETS", "FieldSpec", "MessageError",
-    "MissingExtraError", "PLAY_MODES", "PerceptionConfig", "PlayMode", "SoccerParallelEnv",
-    "TeamEnvError", "VISION_PROFILES",
+    "MissingExtraError", "PLAY_MODES", "PerceptionConfig", "PlayMode", "SCENARIOS",
+    "SoccerParallelEnv", "TeamEnvError", "VISION_PROFILES", "scenario_names",
     "TeamFault", "TeamLoadError", "env", "field_preset", "parallel_env",
 ]
