@@ -3,9 +3,8 @@
 Tables (created on first use, beside the tournament store's):
   optimize_runs          one row per run: its name and JSON definition (what resume compares);
   optimize_generations   one row per generation, written *when it is asked*: the candidates
-                         (unit vectors), the CMA-ES state right after ``ask`` (pickled), and,
-                         once every candidate is scored, the scores and the distribution after
-                         ``tell``;
+                         (unit vectors) and, once every candidate is scored, the scores and
+                         the distribution after ``tell``;
   optimize_match_metrics the finer fitness metric of each stored match (by match id, metric).
 
 Every write is one transaction (WAL, ``synchronous=FULL``), so a killed run finds either the
@@ -16,7 +15,6 @@ finished one, and continues exactly where it stopped.
 from __future__ import annotations
 
 import json
-import pickle
 import sqlite3
 import time
 from dataclasses import dataclass
@@ -36,7 +34,6 @@ CREATE TABLE IF NOT EXISTS optimize_generations (
     run_id INTEGER NOT NULL REFERENCES optimize_runs(id),
     generation INTEGER NOT NULL,
     candidates TEXT NOT NULL,
-    es_state BLOB NOT NULL,
     asked_utc TEXT NOT NULL,
     scores TEXT,
     mean TEXT,
@@ -65,7 +62,6 @@ class Generation:
 
     generation: int
     candidates: list[list[float]]
-    es_state: bytes
     scores: list[dict[str, Any]] | None
     mean: list[float] | None
     sigma: float | None
@@ -116,19 +112,17 @@ class CheckpointStore:
 
     def generations(self, run_id: int) -> list[Generation]:
         rows = self.conn.execute(
-            "SELECT generation, candidates, es_state, scores, mean, sigma, wall_s FROM "
+            "SELECT generation, candidates, scores, mean, sigma, wall_s FROM "
             "optimize_generations WHERE run_id = ? ORDER BY generation", (run_id,)).fetchall()
-        return [Generation(g, json.loads(c), bytes(es), json.loads(s) if s else None,
+        return [Generation(g, json.loads(c), json.loads(s) if s else None,
                            json.loads(m) if m else None, sigma, wall)
-                for g, c, es, s, m, sigma, wall in rows]
+                for g, c, s, m, sigma, wall in rows]
 
-    def save_asked(self, run_id: int, generation: int, candidates: list[list[float]],
-                   es: Any) -> None:
-        """Checkpoint a generation as soon as it is asked: its candidates and the ES state."""
+    def save_asked(self, run_id: int, generation: int, candidates: list[list[float]]) -> None:
+        """Checkpoint a generation as soon as it is asked: its candidates."""
         self.conn.execute(
-            "INSERT INTO optimize_generations (run_id, generation, candidates, es_state, "
-            "asked_utc) VALUES (?, ?, ?, ?, ?)",
-            (run_id, generation, json.dumps(candidates), pickle.dumps(es), _utc()))
+            "INSERT INTO optimize_generations (run_id, generation, candidates, asked_utc) "
+            "VALUES (?, ?, ?, ?)", (run_id, generation, json.dumps(candidates), _utc()))
 
     def save_told(self, run_id: int, generation: int, scores: list[dict[str, Any]],
                   mean: list[float], sigma: float, wall_s: float) -> None:

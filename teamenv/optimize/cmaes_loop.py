@@ -8,15 +8,18 @@ seeds numpy's global state), and cma's integer handling is not used because it d
 global state: integers and choices are rounded when decoded. With the same seed and the same
 fitness values, the search is the same, interrupted and resumed or not.
 
-Resume: the CMA-ES state is pickled right after each ``ask``; a resumed run reloads the last
-one, re-scores that generation (an evaluator playing matches finds its stored ones) and tells
-it, so the continuation is the uninterrupted search bit for bit.
+Resume: every generation's candidates are stored when they are asked, its scores when they
+are known. A resumed run starts a fresh CMA-ES with the same seed and replays the stored
+generations (ask, check the candidates are the stored ones, tell the stored scores), then
+scores the generation that was running (an evaluator playing matches finds its stored ones),
+so the continuation is the uninterrupted search bit for bit. (Replaying rather than pickling
+cma's object: cma keys its solutions by Python's per-process salted hash, so a pickled state
+does not resume identically in another process.)
 """
 
 from __future__ import annotations
 
 import math
-import pickle
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -139,7 +142,7 @@ class OptimizeResult:
 
 
 class _Normals:
-    """cma's ``randn(lam, n)`` from our own generator (picklable, so it checkpoints)."""
+    """cma's ``randn(lam, n)``, drawn from our own seeded generator."""
 
     def __init__(self, seed: int) -> None:
         self.rng = np.random.default_rng(seed)
@@ -218,19 +221,23 @@ def _continue(store: CheckpointStore, run_id: int, name: str, space: SearchSpace
               settings: SearchSettings, evaluator: Evaluator, generations: int,
               reporter: Reporter, definition: dict[str, Any], start: float,
               after_generation: Callable[[OptimizeResult], None] | None) -> dict[str, Any]:
-    done = store.generations(run_id)
-    if not done:
-        es = new_strategy(space, settings)
-        g, candidates = 0, _ask(store, run_id, 0, es)
-    else:
-        last = done[-1]
-        es = pickle.loads(last.es_state)
-        g, candidates = last.generation, [np.asarray(x) for x in last.candidates]
-        if last.told:  # killed between tell and the next ask: tell again (same result)
-            es.tell(candidates, [-s["fitness"] for s in last.scores])
-            if es.stop() or g + 1 >= generations:
-                return dict(es.stop())
-            g, candidates = g + 1, _ask(store, run_id, g + 1, es)
+    es = new_strategy(space, settings)
+    g, candidates = 0, None
+    for stored in store.generations(run_id):  # replay the stored search in this process
+        g, candidates = stored.generation, [np.asarray(x, np.float64) for x in es.ask()]
+        if [x.tolist() for x in candidates] != stored.candidates:
+            raise OptimizeError(f"optimization run {name!r}: replaying its stored generations "
+                                f"asks other candidates at generation {g} than it stored "
+                                "(another cma version?); start a new run")
+        if not stored.told:  # the generation that was running: score it now
+            break
+        es.tell(candidates, [-s["fitness"] for s in stored.scores])
+        candidates = None
+        g += 1
+    if candidates is None:
+        if g > 0 and (es.stop() or g >= generations):
+            return dict(es.stop())
+        candidates = _ask(store, run_id, g, es)
     while True:
         t0 = time.perf_counter()
         configs = [space.decode(x) for x in candidates]
@@ -252,7 +259,7 @@ def _continue(store: CheckpointStore, run_id: int, name: str, space: SearchSpace
 
 def _ask(store: CheckpointStore, run_id: int, generation: int, es: Any) -> list[np.ndarray]:
     candidates = [np.asarray(x, dtype=np.float64) for x in es.ask()]
-    store.save_asked(run_id, generation, [x.tolist() for x in candidates], es)
+    store.save_asked(run_id, generation, [x.tolist() for x in candidates])
     return candidates
 
 
