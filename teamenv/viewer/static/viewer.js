@@ -296,13 +296,12 @@
     for (let i = 0; i < n2; i++) players.push(playerPose(c, i));
     const ball = [arrays.ball[c * 4], arrays.ball[c * 4 + 1]];
 
-    if (shown.cone) {  // the field of view of the followed agents, under everything else
+    if (shown.cone && state.selected !== null) {  // the selected agent's field of view
       const half = h.view_cone.half_angle, reach = Math.max(h.field.length, h.field.width);
-      for (let i = 0; i < n2; i++) {
-        if (!followed(i)) continue;
+      for (const i of [state.selected]) {
         const [x, y, hd] = players[i];
         const [px, py] = toPixel(x, y);
-        ctx.fillStyle = withAlpha(TEAM_RGB[i < n ? 0 : 1], state.selected === null ? 0.07 : 0.18);
+        ctx.fillStyle = withAlpha(TEAM_RGB[i < n ? 0 : 1], 0.2);
         ctx.beginPath();
         ctx.moveTo(px, py);
         ctx.arc(px, py, reach * s, -(hd + half), -(hd - half));  // canvas y points down
@@ -603,6 +602,9 @@
     try {
       state.source = await fetchJSON("/api/source");
       state.matches = await fetchJSON("/api/matches");
+      if (state.source.kind === "tournament") {  // the list first: it is what one picks from
+        $("matches").parentNode.prepend($("matches"));
+      }
       renderMatchList();
       const wanted = params.has("match") ? Number(params.get("match")) : state.source.default_match;
       if (params.has("speed")) setSpeed(params.get("speed"));
