@@ -154,7 +154,9 @@ def match_events(replay: Replay) -> MatchEvents:
     contact_row, contact_player = rows[order], players[order]
     contact_team = contact_player // n
     last = np.searchsorted(contact_row, np.arange(t), side="right") - 1
-    possession = np.where(last >= 0, contact_team[np.maximum(last, 0)], -1)
+    possession = np.full(t, -1, dtype=np.int64)
+    if len(contact_team):
+        possession = np.where(last >= 0, contact_team[np.maximum(last, 0)], -1)
 
     # possession changes
     changed = np.flatnonzero(contact_team[1:] != contact_team[:-1]) + 1

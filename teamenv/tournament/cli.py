@@ -91,6 +91,9 @@ def _add_output_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--bootstrap", type=int, default=200,
                    help="bootstrap resamples for the rating intervals (0: none)")
     p.add_argument("--ratings-seed", type=int, default=0, help="seed of the bootstrap")
+    p.add_argument("--rank-by", choices=("goals", "xg", "composite"), default="goals",
+                   help="also rank teams by mean margin per match on goals, expected goals "
+                        "or the composite (docs/analytics.md), with bootstrap intervals")
 
 
 def _definition(args: argparse.Namespace) -> Any:
@@ -159,6 +162,7 @@ def _report(args: argparse.Namespace, db: Path, name: str | None, console: Any,
         records = store.matches(tid)
         failures = store.failures(tid)
         scheduled = len(tournament.schedule())
+        team_stats = store.team_stats(tid)
     teams = [t.label for t in tournament.all_teams]
     rows = league_table(records, teams)
     ratings = compute_ratings(records, teams, n_bootstrap=args.bootstrap,
@@ -168,6 +172,16 @@ def _report(args: argparse.Namespace, db: Path, name: str | None, console: Any,
                                  "matches"))
     if ratings is not None:
         console.print(rich_ratings(ratings, title=f"{tournament.name}: ratings"))
+    if records:
+        from teamenv.analytics.ranking import match_margins, rank_teams, usable
+        from teamenv.tournament.table import rich_rank
+
+        rank_by = getattr(args, "rank_by", "goals")
+        margins = usable(match_margins(records, team_stats), rank_by)
+        ranks = rank_teams(margins, rank_by, teams, n_bootstrap=max(args.bootstrap, 1),
+                           seed=args.ratings_seed)
+        console.print(rich_rank(ranks, title=f"{tournament.name}: ranked by {rank_by}",
+                                used=len(margins), total=len(records)))
     for idx, err in failures:
         console.print(f"match #{idx} missing: {err}")
     extra = {"tournament": tournament.to_json(), "matches_stored": len(records),

@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+import tempfile
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -70,6 +71,7 @@ def run_tournament(
     resume: bool = False, backend: str | Backend = "process", jobs: int | None = None,
     ray_address: str | None = None, replay_dir: str | Path | None = None,
     progress: bool = True, console: Any = None, synchronous: str = "FULL",
+    stats: bool = True,
 ) -> TournamentSummary:
     """Play a tournament (or the missing part of one) and store every match in ``db``.
 
@@ -82,6 +84,9 @@ def run_tournament(
     ``replay_dir``: record a replay (.npz) of every match there. ``progress``: show a rich
     progress bar and live league table on ``console`` (a rich Console; default stdout).
     Ctrl-C stops cleanly (matches already stored stay stored) and re-raises KeyboardInterrupt.
+    ``stats``: store each match's per-team statistics (``teamenv.analytics``) in the
+    ``team_stats`` table; matches are recorded to a temporary replay for it when there is no
+    ``replay_dir`` (the replay is deleted once its statistics are stored).
     """
     if tournament is None and not resume:
         raise TournamentConfigError("run_tournament: give a tournament definition, or "
@@ -90,15 +95,17 @@ def run_tournament(
         raise TournamentConfigError(f"run_tournament: expected a Tournament, got {tournament!r}")
     store = ResultStore(db, synchronous=synchronous)
     try:
-        return _run(store, tournament, name, resume, backend, jobs, ray_address, replay_dir,
-                    progress, console)
+        with tempfile.TemporaryDirectory(prefix="teamenv-stats-") as scratch:
+            return _run(store, tournament, name, resume, backend, jobs, ray_address, replay_dir,
+                        progress, console, Path(scratch) if stats else None)
     finally:
         store.close()
 
 
 def _run(store: ResultStore, tournament: Tournament | None, name: str | None, resume: bool,
          backend: str | Backend, jobs: int | None, ray_address: str | None,
-         replay_dir: str | Path | None, progress: bool, console: Any) -> TournamentSummary:
+         replay_dir: str | Path | None, progress: bool, console: Any,
+         stats_dir: Path | None = None) -> TournamentSummary:
     lookup = tournament.name if tournament is not None else name
     found = store.find_tournament(lookup) if (resume or lookup is not None) else None
     if found is not None and not resume:
@@ -135,6 +142,8 @@ def _run(store: ResultStore, tournament: Tournament | None, name: str | None, re
     todo = [t for t in schedule if t.index not in done]
     if replay_dir is not None:
         todo = [_with_replay(t, Path(replay_dir), tournament.name) for t in todo]
+    elif stats_dir is not None:  # a scratch replay per match, only for its statistics
+        todo = [_with_replay(t, stats_dir, tournament.name) for t in todo]
     rows = [_Row(r.left_team, r.right_team, r.left_official, r.right_official, r.forfeit_side,
                  r.forfeit_reason) for r in store.matches(tid)]
     teams = [t.label for t in tournament.all_teams]
@@ -153,7 +162,13 @@ def _run(store: ResultStore, tournament: Tournament | None, name: str | None, re
                     display.note(f"match #{outcome.task.index} failed: {outcome.error}")
                     continue
                 res = outcome.result
-                stored = store.record_match(tid, outcome.task, res)
+                scratch = replay_dir is None and outcome.task.replay_path is not None
+                task = replace(outcome.task, replay_path=None) if scratch else outcome.task
+                stored = store.record_match(tid, task, res)
+                if stored and stats_dir is not None:
+                    _store_stats(store, tid, outcome.task, display)
+                if scratch:
+                    Path(outcome.task.replay_path).unlink(missing_ok=True)
                 db_write_s += time.perf_counter() - t0
                 if stored:
                     played += 1
@@ -180,9 +195,22 @@ def _run(store: ResultStore, tournament: Tournament | None, name: str | None, re
         workers=getattr(runner, "workers", 1), forfeits=forfeits)
 
 
-def _with_replay(task: MatchTask, replay_dir: Path, name: str) -> MatchTask:
-    from dataclasses import replace
+def _store_stats(store: ResultStore, tid: int, task: MatchTask, display: _Display) -> None:
+    """Per-team statistics of a stored match from its replay (a match without a readable
+    replay, e.g. played on another machine of a cluster, simply has none)."""
+    from teamenv.analytics.stats import replay_stats
 
+    if task.replay_path is None or not Path(task.replay_path).exists():
+        return
+    try:
+        stats = replay_stats(task.replay_path)
+    except Exception as exc:  # statistics are extra: a failure must not stop the tournament
+        display.note(f"match #{task.index}: no statistics: {type(exc).__name__}: {exc}")
+        return
+    store.record_team_stats(tid, task.index, stats)
+
+
+def _with_replay(task: MatchTask, replay_dir: Path, name: str) -> MatchTask:
     safe = "".join(c if c.isalnum() or c in "-_" else "_" for c in name)
     path = replay_dir / f"{safe}-{task.index:05d}-{task.key[:10]}.npz"
     return replace(task, replay_path=str(path))

@@ -80,6 +80,17 @@ CREATE TABLE IF NOT EXISTS goals (
     scorer_unum INTEGER,
     PRIMARY KEY (match_id, n)
 );
+CREATE TABLE IF NOT EXISTS team_stats (    -- per-team match statistics (teamenv.analytics);
+    match_id INTEGER NOT NULL REFERENCES matches(id),  -- added after schema 1 was released:
+    side TEXT NOT NULL,                    -- IF NOT EXISTS creates it in older databases
+    team TEXT NOT NULL,
+    goals INTEGER NOT NULL,
+    xg REAL NOT NULL,
+    shots INTEGER NOT NULL,
+    possession_pct REAL NOT NULL,
+    stats TEXT NOT NULL,                   -- TeamStats as JSON (MatchStats.to_json()'s team)
+    PRIMARY KEY (match_id, side)
+);
 CREATE TABLE IF NOT EXISTS failures (      -- matches that could not be played (worker died);
     id INTEGER PRIMARY KEY,                -- not results: resume plays them again
     tournament_id INTEGER NOT NULL REFERENCES tournaments(id),
@@ -312,6 +323,32 @@ class ResultStore:
         with self._transaction() as conn:
             conn.execute("INSERT INTO failures (tournament_id, idx, error, time_utc) "
                          "VALUES (?, ?, ?, ?)", (tournament_id, task.index, error, _utc()))
+
+    def record_team_stats(self, tournament_id: int, index: int, stats: Any) -> bool:
+        """Store both sides' ``MatchStats`` of the stored match at schedule ``index``; False
+        when that match is not stored or its statistics already are."""
+        row = self.conn.execute("SELECT id FROM matches WHERE tournament_id=? AND idx=?",
+                                (tournament_id, index)).fetchone()
+        if row is None:
+            return False
+        teams = stats.to_json()["teams"]
+        with self._transaction() as conn:
+            cur = conn.executemany(
+                "INSERT OR IGNORE INTO team_stats VALUES (?, ?, ?, ?, ?, ?, ?, ?)",
+                [(int(row[0]), side, t["team"], int(t["goals"]), float(t["xg"]),
+                  int(t["shots"]), float(t["possession_pct"]), json.dumps(t))
+                 for side, t in teams.items()])
+        return cur.rowcount > 0
+
+    def team_stats(self, tournament_id: int) -> dict[int, dict[str, dict[str, Any]]]:
+        """Stored per-team statistics by match id, then side (TeamStats JSON)."""
+        rows = self.conn.execute(
+            "SELECT s.match_id, s.side, s.stats FROM team_stats s JOIN matches m ON "
+            "m.id=s.match_id WHERE m.tournament_id=? ORDER BY m.idx", (tournament_id,))
+        out: dict[int, dict[str, dict[str, Any]]] = {}
+        for mid, side, text in rows:
+            out.setdefault(int(mid), {})[side] = json.loads(text)
+        return out
 
     def failures(self, tournament_id: int) -> list[tuple[int, str]]:
         """(schedule index, error) of failures whose match is still missing."""

@@ -163,6 +163,26 @@ def rich_ratings(ratings: Any, title: str | None = None) -> Any:
     return table
 
 
+def rich_rank(ranks: Sequence[Any], title: str | None = None, confidence: float = 0.95,
+              used: int | None = None, total: int | None = None) -> Any:
+    """A rich Table of ``teamenv.analytics.ranking.rank_teams``: mean margin per match on the
+    ranking metric and its bootstrap interval."""
+    from rich.table import Table
+
+    caption = f"{int(round(confidence * 100))}% bootstrap intervals over each team's matches"
+    if used is not None and total is not None and used != total:
+        caption += f"; {used} of {total} matches have the numbers"
+    table = Table(title=title, title_justify="left", caption=caption, caption_justify="left")
+    table.add_column("#", justify="right")
+    table.add_column("team", overflow="fold", ratio=1, min_width=12)
+    for name in ("margin/match", "interval", "matches"):
+        table.add_column(name, justify="right", no_wrap=True)
+    for r in ranks:
+        table.add_row(str(r.rank), r.team, f"{r.mean:+.2f}", f"[{r.low:+.2f}, {r.high:+.2f}]",
+                      str(r.matches))
+    return table
+
+
 def _forfeits(row: TableRow) -> str:
     if not row.forfeits:
         return "0"
@@ -170,5 +190,5 @@ def _forfeits(row: TableRow) -> str:
                                            sorted(row.forfeit_reasons.items())) + ")"
 
 
-__all__ = ["TableRow", "goal_difference_matrix", "league_table", "rich_ratings", "rich_table",
-           "write_csv", "write_json"]
+__all__ = ["TableRow", "goal_difference_matrix", "league_table", "rich_rank", "rich_ratings",
+           "rich_table", "write_csv", "write_json"]
