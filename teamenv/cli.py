@@ -29,6 +29,8 @@ def _add_match(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--left-config", default="{}", help="JSON dict of the left team's config")
     p.add_argument("--right-config", default="{}", help="JSON dict of the right team's config")
     p.add_argument("--replay", type=Path, help="save a replay (.npz) here")
+    p.add_argument("--replay-extras", action="store_true",
+                   help="record each agent's belief and roles in the replay too")
     p.add_argument("--gif", type=Path, help="render the match to a GIF/MP4 (needs [render])")
     p.add_argument("--gif-every", type=int, default=10, help="render every k-th cycle")
     p.add_argument("--json", action="store_true", help="print the result as JSON")
@@ -47,7 +49,7 @@ def _run_match(args: argparse.Namespace) -> int:
     result = play_match(args.left, args.right, args.seed, options,
                         left_config=_json_dict(args.left_config, "--left-config"),
                         right_config=_json_dict(args.right_config, "--right-config"),
-                        replay_path=replay_path)
+                        replay_path=replay_path, replay_extras=args.replay_extras)
     if args.json:
         print(json.dumps(result.to_dict(), default=str, indent=2))
     else:

@@ -141,13 +141,15 @@ def play_match(
     left_config: Mapping[str, Any] | None = None, right_config: Mapping[str, Any] | None = None,
     cycle_time_budget_s: float | None = None, stall_timeout_s: float | None = 10.0,
     replay_path: str | Path | None = None, *, team_versions: tuple[str, str] | None = None,
+    replay_extras: bool = False,
 ) -> MatchResult:
     """Play a whole match; never raises for a team's fault (the team forfeits instead).
 
     ``cycle_time_budget_s``: a team whose act() takes longer in any cycle forfeits.
     ``stall_timeout_s``: a cycle that has not finished after this long is interrupted and the
     team that was acting forfeits ("stalled"); None disables the watchdog.
-    ``replay_path``: write a replay (.npz) of the match there.
+    ``replay_path``: write a replay (.npz) of the match there; ``replay_extras``: with each
+    agent's belief and roles (from the teams' optional ``annotations()``).
     ``team_versions``: the (left, right) teams' versions when the caller has looked them up
     already (a tournament worker does it once per team); None looks them up (``team_version``).
     """
@@ -162,7 +164,7 @@ def play_match(
         left_config=left_config, right_config=right_config, rules=rules,
         observation_mode=options.observation_mode, vision=options.vision, channel=options.channel,
         locomotion_profile=options.locomotion_profile, team_cycle_budget_s=cycle_time_budget_s)
-    recorder = ReplayRecorder(env) if replay_path is not None else None
+    recorder = ReplayRecorder(env, replay_extras) if replay_path is not None else None
     forfeit: Forfeit | None = None
     goals: list[Goal] = []
     with _stall_watchdog(stall_timeout_s):
