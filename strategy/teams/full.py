@@ -72,6 +72,19 @@ class FullTeam:
         if self.perceiver is not None:
             self.perceiver.reset(seed)
 
+    def annotations(self) -> dict[str, dict[str, Any]]:
+        """What each agent believed and decided last cycle, for replays with extras
+        (``teamenv.replay.ANNOTATION_KEYS``, team frame): own pose, ball, the formation
+        position voted for it (role) and the team's role vector as it holds it."""
+        out = {}
+        for agent, player in self.players.items():
+            wm, decision = player.last_world_model, player.last_decision
+            if wm is not None and decision is not None:
+                out[agent] = {"pose": (*wm.position, wm.heading), "ball": tuple(wm.ball),
+                              "role": decision.position_index,
+                              "role_vector": decision.team_vector}
+        return out
+
     def act(self, observations: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[str, Any]]:
         if self.perceiver is None:  # state mode: the team's world models in one pass
             beliefs = team_world_models(observations, self.index, self.context.field,
