@@ -255,6 +255,7 @@ def build_search_space(config: Any, *, only: Sequence[str] | None = None,
     """
     declared = declared_domains(config)
     known = [f.name for f in fields(config)]
+    integer_fields = {f.name for f in fields(config) if f.type in (int, "int")}
     bounds = dict(bounds or {})
     for name in list(bounds) + list(only or ()):
         if name not in known:
@@ -271,12 +272,12 @@ def build_search_space(config: Any, *, only: Sequence[str] | None = None,
             raise SearchSpaceError(f"{section}: field {name!r} declares no search range; give "
                                    f"one (--bounds {name}=LOW:HIGH) or pick from {sorted(declared)}")
         default = getattr(config, name)
-        _check_fits(section, name, domain, default)
+        _check_fits(section, name, domain, default, name in integer_fields)
         parameters.append(Parameter(name, domain, default))
     return SearchSpace(tuple(parameters))
 
 
-def _check_fits(section: str, name: str, domain: Domain, default: Any) -> None:
+def _check_fits(section: str, name: str, domain: Domain, default: Any, integer: bool) -> None:
     if isinstance(domain, Choice):
         if domain.index(default) is None:
             raise SearchSpaceError(f"{section}: {name}'s value {default!r} is not one of its "
@@ -285,7 +286,7 @@ def _check_fits(section: str, name: str, domain: Domain, default: Any) -> None:
     if isinstance(default, bool) or not isinstance(default, (int, float)):
         raise SearchSpaceError(f"{section}: {name} is {default!r}, not a number: give it a "
                                "Choice, not a Range")
-    if isinstance(default, int) and not domain.integer:
+    if integer and not domain.integer:
         raise SearchSpaceError(f"{section}: {name} is an integer field; its Range needs "
                                "integer=True (':int' on the command line)")
 

@@ -86,6 +86,8 @@ class TournamentFitness:
         self.jobs = jobs
         self.ray_address = ray_address
         self.replay_dir = self.db.with_name(self.db.name + ".replays") / _safe(run)
+        # an unknown opponent, a rejected override or bad match options fail here, at once
+        validate_specs([TeamSpec.of(team, self.base_config), *self.field], self.options)
 
     def definition(self) -> dict[str, Any]:
         return {"kind": "tournament", "team": self.team, "base_config": self.base_config,
