@@ -16,7 +16,8 @@ the browser's own launch is reported apart. ``--repeat`` runs (default 3); min a
 printed. Usage::
 
     .venv/bin/python benchmarks/viewer_startup.py [--replay out/bench/full_11v11.npz] \
-        [--repeat 3] [--json out/bench/viewer_startup.json]
+        [--repeat 3] [--json out/bench/viewer_startup.json] \
+        [--screenshot docs/viewer.png --cycle 1200 --select 6]
 """
 
 from __future__ import annotations
@@ -57,6 +58,23 @@ def open_and_play(browser, server: ViewerServer) -> dict[str, float]:
     return {"wall_s": wall, "cycles": cycles, **{k: v / 1000.0 for k, v in timing.items()}}
 
 
+def screenshot(browser, server: ViewerServer, path: Path, cycle: int, select: int | None) -> None:
+    page = browser.new_page(viewport={"width": 1400, "height": 860}, device_scale_factor=1)
+    try:
+        page.goto(server.url + f"?cycle={cycle}")
+        page.wait_for_function(f"window.teamenvViewer && teamenvViewer.state.cycle === {cycle}"
+                               " && !['—', 'computing…'].includes("
+                               "document.getElementById('stats-body').textContent)",
+                               timeout=120_000)
+        if select is not None:
+            page.evaluate(f"teamenvViewer.select({select})")
+        path.parent.mkdir(parents=True, exist_ok=True)
+        page.screenshot(path=str(path))
+    finally:
+        page.close()
+    print(f"screenshot: {path}")
+
+
 def summary(runs: list[dict[str, float]], key: str) -> str:
     values = [r[key] for r in runs]
     return f"min {min(values):6.3f} s   median {statistics.median(values):6.3f} s"
@@ -68,6 +86,11 @@ def main() -> None:
                         help="a full-match replay (recorded here when missing)")
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--json", type=Path, default=None, help="write the runs here")
+    parser.add_argument("--screenshot", type=Path, default=None,
+                        help="also save a screenshot of the page here (docs/viewer.png)")
+    parser.add_argument("--cycle", type=int, default=0, help="the screenshot's cycle")
+    parser.add_argument("--select", type=int, default=None,
+                        help="the screenshot's selected player (index 0 .. 2N-1)")
     args = parser.parse_args()
     if not args.replay.is_file():
         record_full_match(args.replay)
@@ -91,6 +114,9 @@ def main() -> None:
             with ViewerServer(source).start() as server:
                 results["cold"].append({"load_s": source_s, **open_and_play(browser, server)})
                 results["warm"].append(open_and_play(browser, server))
+        if args.screenshot:
+            with ViewerServer(open_source(args.replay)).start() as server:
+                screenshot(browser, server, args.screenshot, args.cycle, args.select)
         browser.close()
     with ViewerServer(open_source(args.replay)) as server:
         header, blob = server.encoded(0)

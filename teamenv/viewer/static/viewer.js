@@ -271,6 +271,18 @@
     return out;
   }
 
+  // The latest cycle <= c (at most `back` cycles earlier) in which player i heard anyone:
+  // {cycle, speakers}, or null. The channel delivers every other cycle at best, so lines and
+  // the panel show the last delivery instead of blinking.
+  const HEARD_LOOKBACK = 50;
+  function lastHeard(c, i, back) {
+    for (let k = c; k >= Math.max(0, c - back); k--) {
+      const speakers = heardBy(k, i);
+      if (speakers.length) return { cycle: k, speakers };
+    }
+    return null;
+  }
+
   function withAlpha(rgb, a) {
     return `rgba(${rgb[0]},${rgb[1]},${rgb[2]},${a})`;
   }
@@ -332,7 +344,8 @@
       ctx.lineWidth = 1.5 * dpr;
       for (let i = 0; i < n2; i++) {
         if (state.selected === null ? false : state.selected !== i) continue;
-        for (const k of heardBy(c, i)) {
+        const last = lastHeard(c, i, 10);
+        for (const k of last ? last.speakers : []) {
           heard.push([k, i]);
           const [ax, ay] = toPixel(players[k][0], players[k][1]);
           const [bx, by] = toPixel(players[i][0], players[i][1]);
@@ -491,11 +504,15 @@
     }
     if (arrays.role) t.appendChild(row(["role", fmt(roleOf(c, i))]));
     if (arrays.heard_from) {
-      const names = heardBy(c, i).map((k) => {
-        const bytes = arrays.say_bytes ? arrays.say_bytes[c * 2 * state.header.team_size + k] : null;
+      const last = lastHeard(c, i, HEARD_LOOKBACK);
+      const names = last ? last.speakers.map((k) => {
+        const n2 = 2 * state.header.team_size;
+        const bytes = arrays.say_bytes ? arrays.say_bytes[last.cycle * n2 + k] : 0;
         return bytes ? `${agentName(k)} (${bytes} B)` : agentName(k);
-      });
-      t.appendChild(row(["heard", names.length ? names.join(", ") : "nothing"]));
+      }) : [];
+      const when = last && last.cycle !== c ? ` (cycle ${last.cycle})` : "";
+      t.appendChild(row(["heard", names.length ? names.join(", ") + when
+        : `nothing in the last ${HEARD_LOOKBACK} cycles`]));
     }
     if (!arrays.belief_pose && !arrays.role && !arrays.heard_from) {
       t.appendChild(row(["overlays", "this replay has no belief, role or message records"]));
