@@ -105,7 +105,7 @@ def main() -> None:
         start = time.perf_counter()
         browser = playwright.chromium.launch(
             executable_path=chromium, headless=True,
-            args=["--no-sandbox"] if os.geteuid() == 0 else [])
+            args=["--disable-dev-shm-usage"] + (["--no-sandbox"] if os.geteuid() == 0 else []))
         launch_s = time.perf_counter() - start
         for _ in range(args.repeat):
             start = time.perf_counter()

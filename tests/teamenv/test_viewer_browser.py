@@ -63,7 +63,8 @@ def browser():
         pytest.fail("the viewer's browser test needs Debian's chromium on PATH: "
                     "apt-get install -y chromium (scripts/test.sh does it when run as root)")
     with sync_playwright() as playwright:
-        args = ["--no-sandbox"] if os.geteuid() == 0 else []
+        # root (CI containers) needs --no-sandbox; a small /dev/shm in containers crashes tabs
+        args = ["--disable-dev-shm-usage"] + (["--no-sandbox"] if os.geteuid() == 0 else [])
         browser = playwright.chromium.launch(executable_path=chromium, headless=True, args=args)
         yield browser
         browser.close()
