@@ -12,6 +12,7 @@ import pytest
 from teamenv.cli import main
 from teamenv.optimize.checkpoint import CheckpointStore
 from teamenv.optimize.cmaes_loop import load_result
+from teamenv.optimize.heldout import bootstrap, held_out
 from teamenv.optimize.overrides import write_team_override
 from teamenv.tournament import ResultStore, TeamSpecError, parse_team_spec
 
@@ -81,6 +82,21 @@ def test_optimize_full_against_chaser_then_resume_and_use_the_override(tmp_path,
     assert main(["tournament", "run", "full@tiny", "chaser", "--db", "t.sqlite", "--games", "1",
                  "--team-size", "3", "--half-time", "2", "--halves", "1", "--backend",
                  "serial", "--no-progress"]) == 0
+    with ResultStore(tmp_path / "t.sqlite") as store:
+        records = store.matches(store.get_tournament(None)[0])
+    report = held_out(records, parse_team_spec("full@tiny").label)
+    gd = [(r.left_official - r.right_official) * (1 if r.left_team.startswith("full") else -1)
+          for r in records]
+    assert report.matches == 2 and report.seeds == 1 and report.territory is None
+    assert report.goal_difference.mean == pytest.approx(np.mean(gd))
+
+
+def test_bootstrap_resamples_whole_seeds():
+    same = bootstrap([[1.0, -1.0], [1.0, -1.0]])
+    assert (same.mean, same.low, same.high) == (0.0, 0.0, 0.0)
+    spread = bootstrap([[2.0, 2.0], [0.0, 0.0], [1.0, 1.0]], resamples=500, seed=3)
+    assert spread.mean == 1.0 and 0.0 <= spread.low < 1.0 < spread.high <= 2.0
+    assert spread == bootstrap([[2.0, 2.0], [0.0, 0.0], [1.0, 1.0]], resamples=500, seed=3)
 
 
 def test_override_files_bad_input(tmp_path, monkeypatch):
