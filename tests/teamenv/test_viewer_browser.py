@@ -137,6 +137,11 @@ def test_plays_pauses_seeks_and_draws_the_replay(page, replay_path, replay):
                                       replay.ball[SEEK_CYCLE, :2])
         assert drawn["score"] == replay.score[SEEK_CYCLE].tolist()
         assert page.text_content("#cycle-display").startswith(f"cycle {SEEK_CYCLE} / ")
+        page.evaluate("document.activeElement.blur()")
+        page.keyboard.press("ArrowRight")
+        assert page.evaluate("teamenvViewer.state.drawn.cycle") == SEEK_CYCLE + 1
+        page.keyboard.press("ArrowLeft")
+        assert page.evaluate("teamenvViewer.state.drawn.cycle") == SEEK_CYCLE
 
         canvas = page.evaluate(COLOURS_JS)
         assert canvas["width"] > 500 and canvas["colours"] >= 5, canvas  # not blank

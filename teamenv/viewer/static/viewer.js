@@ -592,7 +592,8 @@
       select(best);
     });
     window.addEventListener("keydown", (e) => {
-      if (!state.ready || e.target.tagName === "SELECT") return;
+      // a focused button, slider, check box or menu keeps its own keys (no double steps)
+      if (!state.ready || ["BUTTON", "INPUT", "SELECT"].includes(e.target.tagName)) return;
       if (e.key === " ") { e.preventDefault(); state.playing ? pause() : play(); }
       else if (e.key === "ArrowRight" || e.key === "ArrowLeft") {
         e.preventDefault();
