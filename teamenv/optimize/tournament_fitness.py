@@ -125,7 +125,14 @@ class TournamentFitness:
 
     def evaluate(self, generation: int, configs: list[dict[str, Any]],
                  reporter: Reporter) -> list[CandidateScore]:
-        tournaments = [self.tournament(generation, i, c) for i, c in enumerate(configs)]
+        # candidates that decode to the same config (rounded integers, choices) play once:
+        # matches are deterministic, so they would score the same anyway
+        first: dict[str, int] = {}
+        for i, c in enumerate(configs):
+            first.setdefault(self.candidate_spec(c).label, i)
+        owner = [first[self.candidate_spec(c).label] for c in configs]
+        played = sorted(set(owner))
+        tournaments = [self.tournament(generation, i, configs[i]) for i in played]
         specs = {s.label: s for t in tournaments for s in t.all_teams}
         versions = validate_specs(list(specs.values()), self.options)
         with ResultStore(self.db) as results, CheckpointStore(self.db) as checkpoints:
@@ -138,8 +145,9 @@ class TournamentFitness:
             total = sum(len(t.schedule()) for t in tournaments)
             reporter.generation_started(generation, 0, total, total - len(todo))
             self._play(results, checkpoints, todo, reporter)
-            return [self._score(results, checkpoints, tid, t) for tid, t in
-                    zip(ids, tournaments, strict=True)]
+            scores = {i: self._score(results, checkpoints, tid, t)
+                      for i, tid, t in zip(played, ids, tournaments, strict=True)}
+            return [scores[i] for i in owner]
 
     def _tournament_id(self, results: ResultStore, tournament: Tournament,
                        versions: dict[str, str]) -> int:
@@ -174,18 +182,14 @@ class TournamentFitness:
         prepare = getattr(runner, "prepare", None)
         if prepare is not None:
             prepare(sorted({self.team} | {s.name for s in self.field}))
-        tid_of = {id(task): tid for tid, task in todo}
-        by_key = {(tid, task.index): task for tid, task in todo}
+        # candidates differ, so (match key, index) names one task of one candidate's gauntlet
+        tid_of = {(task.key, task.index): tid for tid, task in todo}
         failures = []
         outcomes = runner.run([task for _, task in todo])
         try:
             for outcome in outcomes:
                 task = outcome.task
-                tid = tid_of.get(id(task))
-                if tid is None:  # a backend that copied the task (Ray): find it by index/key
-                    tid = next(t for (t, i), tk in by_key.items()
-                               if i == task.index and tk.key == task.key
-                               and tk.replay_path == task.replay_path)
+                tid = tid_of[(task.key, task.index)]
                 if outcome.result is None:
                     results.record_failure(tid, task, outcome.error or "unknown error")
                     failures.append(f"{task.pairing} seed {task.seed}: {outcome.error}")

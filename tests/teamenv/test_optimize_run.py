@@ -10,10 +10,12 @@ import numpy as np
 import pytest
 
 from teamenv.cli import main
+from teamenv.match import MatchOptions
 from teamenv.optimize.checkpoint import CheckpointStore
-from teamenv.optimize.cmaes_loop import load_result
+from teamenv.optimize.cmaes_loop import QuietReporter, load_result
 from teamenv.optimize.heldout import bootstrap, held_out
 from teamenv.optimize.overrides import write_team_override
+from teamenv.optimize.tournament_fitness import TournamentFitness
 from teamenv.tournament import ResultStore, TeamSpecError, parse_team_spec
 
 TINY = ["--team-size", "3", "--half-time", "5", "--halves", "1", "--backend", "serial",
@@ -127,3 +129,15 @@ def test_bad_optimize_arguments_are_clear_errors(tmp_path, capsys, args, message
     code = main(["optimize", *args, "--db", str(tmp_path / "e.sqlite"), *TINY])
     assert code == 2
     assert message in capsys.readouterr().err
+
+
+def test_identical_candidates_play_once_and_goal_difference_alone_needs_no_replays(tmp_path):
+    fitness = TournamentFitness(tmp_path / "d.sqlite", "dup", "full", ["chaser"],
+                                options=MatchOptions(team_size=3, half_time_s=3.0, halves=1),
+                                backend="serial", metric_weight=0.0)
+    scores = fitness.evaluate(0, [{"pressure_m": 2.5}, {"pressure_m": 2.5}], QuietReporter())
+    assert scores[0] == scores[1] and scores[0].fine is None and scores[0].matches == 2
+    assert scores[0].fitness == scores[0].goal_difference
+    with ResultStore(tmp_path / "d.sqlite") as store:
+        assert store.tournament_names() == ["dup/g000/c00"]
+        assert all(m.replay_path is None for m in store.matches(store.get_tournament(None)[0]))
