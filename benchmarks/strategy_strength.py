@@ -1,17 +1,22 @@
 """Strength of the built-in teams: seeded head-to-head matches with confidence intervals.
 
-    python benchmarks/strategy_strength.py              # 10 seeded 7 v 7 matches of 2 x 60 s each
+    python benchmarks/strategy_strength.py      # 40 full-length 7 v 7 matches per pairing
     python benchmarks/strategy_strength.py --seeds 20 --jobs 2 --json out/strength.json
-    python benchmarks/strategy_strength.py --observation vision --seeds 20 --first-seed 1000 \
-        --pairings full:silent,full:chaser,full:static
-    python benchmarks/strategy_strength.py --observation vision --seeds 20 --first-seed 1000 \
-        --pairings full:chaser,silent:chaser      # + the paired difference against chaser
+    python benchmarks/strategy_strength.py --observation vision --pairings full:chaser
+    python benchmarks/strategy_strength.py --pairings full:chaser,silent:chaser
+        # + the paired difference against chaser
+    python benchmarks/strategy_strength.py --seed-range tuning --seeds 10 --half-time 60
+
+Seeds come from ``teamenv.seeds``: by default the evaluation range (100,000 up), which nobody
+tunes on; ``--seed-range tuning`` for experiments while changing a team, ``--offset`` to take
+seeds further into the range. Matches are full length (2 x 300 s) by default: in two-minute
+matches a side kicks ~10 times and nearly all of them end 0-0.
 
 Each pairing plays one match per seed with sides alternating (``teamenv.headtohead``), on the
 ``mj7v7`` pitch with 7 players a side by default, and prints the aggregate score, the record
 and the mean goal difference per match with a 95 % bootstrap confidence interval
 (``scipy.stats.bootstrap``, BCa, over matches). Goals are rare: read the interval, not the
-aggregate. ``--first-seed`` picks seeds nobody tuned on. Two pairings against the same
+aggregate. Two pairings against the same
 opponent (``full:chaser,silent:chaser``) are also compared seed by seed: the mean of the
 difference of their goal differences, with its interval (a paired comparison: both teams met
 the same opponent on the same seeds from the same sides).
@@ -28,6 +33,7 @@ from scipy.stats import bootstrap
 
 from teamenv.headtohead import head_to_head
 from teamenv.match import MatchOptions
+from teamenv.seeds import EVALUATION_SEEDS, TUNING_SEEDS
 
 PAIRINGS = "full:chaser,full:static,full:silent,chaser:static"
 
@@ -47,12 +53,14 @@ def goal_difference_ci(scores: tuple[tuple[int, int], ...],
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--seeds", type=int, default=10)
-    parser.add_argument("--first-seed", type=int, default=0)
+    parser.add_argument("--seeds", type=int, default=40, help="matches per pairing")
+    parser.add_argument("--seed-range", default="evaluation", choices=("evaluation", "tuning"),
+                        help="which reserved seed range (teamenv.seeds) to draw from")
+    parser.add_argument("--offset", type=int, default=0, help="seeds to skip into the range")
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--field", default="mj7v7")
     parser.add_argument("--team-size", type=int, default=7)
-    parser.add_argument("--half-time", type=float, default=60.0)
+    parser.add_argument("--half-time", type=float, default=300.0)
     parser.add_argument("--observation", default="state", choices=("state", "vision"))
     parser.add_argument("--vision", default=None, help="vision profile (simspark or mj)")
     parser.add_argument("--channel", default="simspark")
@@ -63,11 +71,12 @@ def main() -> None:
     options = MatchOptions(field=args.field, team_size=args.team_size,
                            half_time_s=args.half_time, observation_mode=args.observation,
                            vision=args.vision, channel=args.channel)
-    seeds = tuple(range(args.first_seed, args.first_seed + args.seeds))
+    seed_range = EVALUATION_SEEDS if args.seed_range == "evaluation" else TUNING_SEEDS
+    seeds = seed_range.take(args.seeds, args.offset)
     print(f"{args.field} {args.team_size} v {args.team_size}, 2 x {args.half_time:g} s, "
           f"observation {args.observation}"
           f"{'' if args.vision is None else ' (' + args.vision + ')'}, channel {args.channel}, "
-          f"seeds {seeds[0]}..{seeds[-1]}", flush=True)
+          f"{seed_range.name} seeds {seeds[0]}..{seeds[-1]}", flush=True)
     rows = []
     for pair in args.pairings.split(","):
         a, b = pair.split(":")
