@@ -1,0 +1,89 @@
+"""Each RL example in examples/ runs its --smoke setting to completion and leaves a loadable model and a return curve."""
+
+from __future__ import annotations
+
+import csv
+import importlib
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytestmark = pytest.mark.rl
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+def run_example(script: str, out: Path, *extra: str) -> str:
+    """Runs ``examples/<script> --smoke --out <out>``; returns its stdout (fails with its output)."""
+    done = subprocess.run([sys.executable, str(EXAMPLES / script), "--smoke", "--out", str(out),
+                           *extra], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, f"{script} failed:\n{done.stdout}\n{done.stderr}"
+    return done.stdout
+
+
+def example_module(name: str):
+    """Imports ``examples/<name>.py`` (the examples import each other as top-level modules)."""
+    sys.path.insert(0, str(EXAMPLES))
+    try:
+        return importlib.import_module(name)
+    finally:
+        sys.path.remove(str(EXAMPLES))
+
+
+def curve_rows(path: Path) -> list[dict[str, str]]:
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert rows, f"{path} has no rows"
+    for row in rows:
+        assert np.isfinite(float(row["mean_episode_return"])), row
+    return rows
+
+
+def test_sb3_supersuit_ppo_trains_and_saves_a_loadable_model(tmp_path):
+    pytest.importorskip("stable_baselines3", reason="needs the rl extra: pip install 'teamenv[rl]'")
+    from stable_baselines3 import PPO
+
+    stdout = run_example("sb3_supersuit_ppo.py", tmp_path)
+    assert "mean episode return" in stdout
+    rows = curve_rows(tmp_path / "returns.csv")
+    assert int(rows[-1]["agent_steps"]) == 512
+    model = PPO.load(tmp_path / "model.zip", device="cpu")
+    env = example_module("soccer_task").make_env(team_size=2, max_cycles=64)
+    obs, _ = env.reset(seed=1)
+    action, _ = model.predict(obs["left_1"], deterministic=True)
+    assert action.shape == env.action_space("left_1").shape
+    env.step({a: np.clip(model.predict(obs[a], deterministic=True)[0], -1, 1)
+              for a in env.agents})
+
+
+def test_cleanrl_ppo_trains_and_saves_its_weights(tmp_path):
+    torch = pytest.importorskip("torch", reason="needs the rl extra: pip install 'teamenv[rl]'")
+    stdout = run_example("cleanrl_ppo.py", tmp_path)
+    assert "mean episode return" in stdout
+    rows = curve_rows(tmp_path / "returns.csv")
+    assert int(rows[-1]["agent_steps"]) == 2 * 64 * 2  # two rollouts of 64 steps, 2 learners
+    weights = torch.load(tmp_path / "agent.pt", weights_only=True)
+    assert weights["actor_mean.0.weight"].shape[1] == 60  # the 2 v 2 box observation
+    assert weights["actor_mean.4.weight"].shape[0] == 9  # the box action
+
+
+def test_rllib_multiagent_trains_one_policy_per_team(tmp_path):
+    pytest.importorskip("ray.rllib", reason="needs the rl extra: pip install 'teamenv[rl]'")
+    stdout = run_example("rllib_multiagent.py", tmp_path, "--policies", "per-team")
+    assert stdout.count("iteration ") >= 2
+    rows = curve_rows(tmp_path / "returns.csv")
+    assert len(rows) == 2
+    assert [k for k in rows[0] if k.startswith("return_")] == ["return_left_team",
+                                                                "return_right_team"]
+    saved = tmp_path / "checkpoint" / "learner_group" / "learner" / "rl_module"
+    assert {"left_team", "right_team"} <= {p.name for p in saved.iterdir()}
+
+
+def test_rllib_policy_mapping_shares_or_splits_by_team():
+    policy_mapping = example_module("rllib_multiagent").policy_mapping
+    agents = ["left_1", "left_2", "right_1", "right_2"]
+    assert {policy_mapping("shared")(a, None) for a in agents} == {"shared"}
+    assert [policy_mapping("per-team")(a, None) for a in agents] == [
+        "left_team", "left_team", "right_team", "right_team"]
