@@ -1,0 +1,52 @@
+"""Statistics from a recorded replay agree with benchmarks/goal_rarity.py's live count of the
+same seeded match (the two read the same definitions: one from the env, one from the file)."""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+from pathlib import Path
+
+import pytest
+
+import teamenv
+from teamenv.analytics.stats import match_stats
+from teamenv.config import RulesConfig
+from teamenv.replay import ReplayRecorder, load_replay
+
+_PATH = Path(__file__).resolve().parents[2] / "benchmarks" / "goal_rarity.py"
+_spec = importlib.util.spec_from_file_location("goal_rarity", _PATH)
+gr = importlib.util.module_from_spec(_spec)
+sys.modules.setdefault("goal_rarity", gr)
+_spec.loader.exec_module(gr)
+
+
+@pytest.mark.parametrize("seed", [11])
+def test_replay_statistics_equal_the_live_count(tmp_path, seed):
+    env = teamenv.parallel_env(left="full", right="chaser", field="mj7v7", team_size=3,
+                               rules=RulesConfig(half_time_s=20.0), profile_phases=False)
+    recorder = ReplayRecorder(env)
+    env.reset(seed=seed)
+    recorder.record()
+    counter = gr.MatchCounter(env.field.half_length, env.field.half_goal_width, env.team_size,
+                              start_ball=env.sim.world.ball_state(), cycle_s=env.physics.cycle_s)
+    while not env.episode_over:
+        env.step({})
+        recorder.record()
+        counter.add(gr.cycle_from_env(env))
+    counter.finish()
+    path = recorder.save(tmp_path / "m.npz", {"left": "full", "right": "chaser", "seed": seed})
+    stats = match_stats(load_replay(path))
+    assert sum(t.kicks for t in stats.teams) >= 3  # the match has something to count
+    for side, team in enumerate(stats.teams):
+        live = counter.side_metrics(side)
+        assert team.kicks == live["kicks"]
+        assert team.attempts_on_frame == live["on_frame_kicks"]
+        assert team.shots == live["shots"]
+        assert team.goals == live["goals"]
+        assert team.possession_lost == live["possession_losses"]
+        assert team.possession_pct == pytest.approx(live["possession_pct"])
+        for outcome in ("blocked", "teammate", "self", "goal", "out", "stopped"):
+            assert team.kick_outcomes[outcome] == live[f"kicks_{outcome}"], outcome
+        assert team.third_pct["middle"] == pytest.approx(live["ball_in_middle_third_pct"])
+    assert stats.possession_changes == counter.possession_changes
