@@ -1,0 +1,101 @@
+"""Statistics speed and replay size of a full 11 v 11 match (30,000 cycles).
+
+    python benchmarks/analytics_speed.py --replay-dir /tmp/speed            # play, then time
+    python benchmarks/analytics_speed.py --replay-dir /tmp/speed --json benchmarks/results/analytics_speed.json
+
+Plays (once; a replay already in ``--replay-dir`` is reused) one full-length match ``--left``
+vs ``--right`` (default full vs full, both annotate) on ``simspark`` 11 v 11, 2 x 300 s, in
+``--observation`` mode, recorded with extras; writes it twice, with and without the extras
+(each agent's belief pose, ball, role and role vector), and reports the two file sizes. Then
+times, best of ``--repeats``: loading the replay, ``match_events`` and ``match_stats`` (what
+``teamenv stats`` does, less printing), and the HTML report's figures.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+
+def play(replay_dir: Path, left: str, right: str, seed: int, observation: str) -> tuple[Path,
+                                                                                      Path]:
+    """The replay with and without extras (played when missing)."""
+    import teamenv
+    from teamenv.replay import ReplayRecorder
+
+    stem = f"{left}-{right}-{seed}-{observation}"
+    with_extras, plain = replay_dir / f"{stem}-extras.npz", replay_dir / f"{stem}.npz"
+    if with_extras.exists() and plain.exists():
+        return with_extras, plain
+    env = teamenv.parallel_env(left=left, right=right, field="simspark", team_size=11,
+                               observation_mode=observation, profile_phases=False)
+    recorder = ReplayRecorder(env, extras=True)
+    env.reset(seed=seed)
+    recorder.record()
+    start = time.perf_counter()
+    while not env.episode_over:
+        env.step({})
+        recorder.record()
+    print(f"played {env.sim.cycle} cycles in {time.perf_counter() - start:.0f} s")
+    meta = {"left": left, "right": right, "seed": seed}
+    recorder.save(with_extras, meta)
+    recorder.extras = False  # the same match, written without the extras
+    recorder.save(plain, meta)
+    return with_extras, plain
+
+
+def best_of(repeats: int, fn: Any) -> tuple[float, Any]:
+    best, out = float("inf"), None
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        out = fn()
+        best = min(best, time.perf_counter() - t0)
+    return best, out
+
+
+def main(argv: Sequence[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--replay-dir", type=Path, required=True)
+    parser.add_argument("--left", default="full")
+    parser.add_argument("--right", default="full")
+    parser.add_argument("--seed", type=int, default=5000)
+    parser.add_argument("--observation", default="state", choices=("state", "vision"))
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--json", type=Path)
+    args = parser.parse_args(argv)
+    args.replay_dir.mkdir(parents=True, exist_ok=True)
+    from teamenv.analytics.events import match_events
+    from teamenv.analytics.figures import match_figures
+    from teamenv.analytics.stats import match_stats
+    from teamenv.analytics.xg import XGModel
+    from teamenv.replay import load_replay
+
+    with_extras, plain = play(args.replay_dir, args.left, args.right, args.seed,
+                              args.observation)
+    model = XGModel.load()
+    out: dict[str, Any] = {"match": f"{args.left} vs {args.right}, simspark 11 v 11, 2 x 300 s, "
+                                    f"seed {args.seed}, {args.observation} mode"}
+    for label, path in (("plain", plain), ("extras", with_extras)):
+        load_s, replay = best_of(args.repeats, lambda p=path: load_replay(p))
+        events_s, events = best_of(args.repeats, lambda r=replay: match_events(r))
+        stats_s, _ = best_of(args.repeats, lambda r=replay, e=events: match_stats(r, model, e))
+        total_s, stats = best_of(args.repeats, lambda p=path: match_stats(load_replay(p), model))
+        out[label] = {"cycles": len(replay) - 1, "size_mb": path.stat().st_size / 1e6,
+                      "load_s": load_s, "events_s": events_s, "stats_s": stats_s,
+                      "load_events_stats_s": total_s}
+        print(f"{label:6s}: {len(replay) - 1} cycles, {path.stat().st_size / 1e6:.2f} MB; "
+              f"load {load_s:.3f} s, events {events_s:.3f} s, stats {stats_s:.3f} s; "
+              f"load + events + stats {total_s:.3f} s (best of {args.repeats})")
+    figures_s, _ = best_of(1, lambda: match_figures(replay, events, stats))
+    out["figures_s"] = figures_s
+    print(f"report figures: {figures_s:.2f} s")
+    if args.json:
+        args.json.write_text(json.dumps(out, indent=1) + "\n")
+
+
+if __name__ == "__main__":
+    main()
