@@ -247,8 +247,11 @@ def _continue(store: CheckpointStore, run_id: int, name: str, space: SearchSpace
             raise OptimizeError(f"generation {g}: the evaluator returned {scores!r} for "
                                 f"{len(configs)} candidates (one finite fitness each expected)")
         es.tell(candidates, [-s.fitness for s in scores])  # cma minimizes
-        store.save_told(run_id, g, [s.to_json() for s in scores], list(map(float, es.mean)),
-                        float(es.sigma), time.perf_counter() - t0)
+        # the mean in the unit cube: cma's own ``es.mean`` lives in the unbounded space of its
+        # BoundTransform; ``xfavorite`` is that mean mapped into the bounds
+        store.save_told(run_id, g, [s.to_json() for s in scores],
+                        list(map(float, es.result.xfavorite)), float(es.sigma),
+                        time.perf_counter() - t0)
         reporter.generation_done(g, scores)
         if after_generation is not None:
             after_generation(_result(store, run_id, name, space, definition, start, {}))

@@ -68,10 +68,11 @@ class Sphere:
         return scores
 
 
-def test_converges_on_a_synthetic_fitness(tmp_path):
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_converges_on_a_synthetic_fitness(tmp_path, seed):
     state = np.random.get_state()[1].copy()
-    result = optimize("sphere", tmp_path / "o.sqlite", toy_space(), Sphere(), generations=40,
-                      settings=SearchSettings(seed=1, popsize=8, sigma0=0.3))
+    result = optimize("sphere", tmp_path / "o.sqlite", toy_space(), Sphere(), generations=30,
+                      settings=SearchSettings(seed=seed, popsize=8, sigma0=0.3))
     rec = result.recommended
     assert rec["count"] == 4 and rec["shape"] == "deep"
     assert rec["speed"] == pytest.approx(1.6, abs=0.05)
@@ -80,6 +81,7 @@ def test_converges_on_a_synthetic_fitness(tmp_path):
     last = np.mean([s["fitness"] for s in result.generations[-1].scores])
     assert last > first
     assert (np.random.get_state()[1] == state).all()  # cma never touched the global state
+    assert all(0 <= u <= 1 for u in result.generations[-1].mean)  # the mean in the unit cube
 
 
 def _trace(db: Path, name: str) -> list[tuple[Any, ...]]:
@@ -127,7 +129,7 @@ def test_sigkill_mid_generation_then_resume_is_the_uninterrupted_search(tmp_path
     db, progress = tmp_path / "kill.sqlite", tmp_path / "progress"
     child = subprocess.Popen([sys.executable, "-c", _CHILD, str(db), str(progress)], cwd=ROOT,
                              env={**os.environ, "PYTHONPATH": str(ROOT)})
-    deadline = time.monotonic() + 60
+    deadline = time.monotonic() + 300  # generous: a loaded machine imports slowly
     while time.monotonic() < deadline and child.poll() is None:
         if progress.exists() and progress.read_text() == "3":
             break
