@@ -6,11 +6,13 @@ then in headless chromium (Debian's, driven by Playwright) opens ``/?autoplay=1`
 until the page has drawn a cycle later than the first while playing. Timed:
 
 - ``navigation -> playing``: wall time from ``page.goto`` to that frame, measured in Python;
-- in the page (``performance.now()``, from the start of navigation): header loaded, arrays
-  loaded, first frame drawn (ready), first played frame.
+- in the page (``performance.now()``, from the start of navigation): header loaded, core
+  arrays loaded (what playing needs), first frame drawn (ready), first played frame, and the
+  overlay arrays loaded (they arrive while it plays).
 
 ``cold``: a fresh source and server per run: ``teamenv view`` loads and checks the .npz
-before it serves (timed apart, ``load``), and the first request encodes the arrays; ``warm``:
+before it serves (timed apart, ``load``) and then encodes the arrays in the background while
+the browser starts, as the page's first request would; ``warm``:
 the same server again (the encoded replay is kept). A new browser page every run;
 the browser's own launch is reported apart. ``--repeat`` runs (default 3); min and median are
 printed. Usage::
@@ -51,6 +53,7 @@ def open_and_play(browser, server: ViewerServer) -> dict[str, float]:
         page.goto(server.url + "?autoplay=1")
         page.wait_for_function(PLAYING, timeout=120_000, polling="raf")
         wall = time.perf_counter() - start
+        page.wait_for_function("teamenvViewer.state.overlaysLoaded", timeout=120_000)
         timing = page.evaluate("teamenvViewer.state.timing")
         cycles = page.evaluate("teamenvViewer.state.nCycles")
     finally:
@@ -119,22 +122,25 @@ def main() -> None:
                 screenshot(browser, server, args.screenshot, args.cycle, args.select)
         browser.close()
     with ViewerServer(open_source(args.replay)) as server:
-        header, blob = server.encoded(0)
+        header, blobs = server.encoded(0)
+    sizes = {group: len(blob) for group, blob in blobs.items()}
     print(f"replay {args.replay}: {header['cycles']} cycles, {2 * header['team_size']} players, "
-          f"{args.replay.stat().st_size / 1e6:.1f} MB on disk, {len(blob) / 1e6:.1f} MB of "
-          f"arrays sent; chromium {chromium}, launched in {launch_s:.2f} s")
+          f"{args.replay.stat().st_size / 1e6:.1f} MB on disk, arrays sent: "
+          + ", ".join(f"{group} {n / 1e6:.1f} MB" for group, n in sizes.items())
+          + f"; chromium {chromium}, launched in {launch_s:.2f} s")
     for kind, runs in results.items():
         print(f"{kind} ({len(runs)} runs)")
         if kind == "cold":
             print(f"  {'load + check the .npz (before serving)':40s}  {summary(runs, 'load_s')}")
         print(f"  {'navigation -> playing (wall)':40s}  {summary(runs, 'wall_s')}")
-        for key, label in (("headerMs", "header loaded"), ("arraysMs", "arrays loaded"),
-                           ("readyMs", "first frame drawn"), ("playingMs", "first played frame")):
+        for key, label in (("headerMs", "header loaded"), ("arraysMs", "core arrays loaded"),
+                           ("readyMs", "first frame drawn"), ("playingMs", "first played frame"),
+                           ("overlaysMs", "overlay arrays loaded (playing)")):
             print(f"  {label:40s}  {summary(runs, key)}")
     if args.json:
         args.json.parent.mkdir(parents=True, exist_ok=True)
         args.json.write_text(json.dumps({"replay": str(args.replay), "launch_s": launch_s,
-                                         "bytes": len(blob), **results}, indent=2))
+                                         "bytes": sizes, **results}, indent=2))
 
 
 if __name__ == "__main__":

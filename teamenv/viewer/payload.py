@@ -1,11 +1,13 @@
-"""A replay in the compact form the page reads: a JSON header and one binary blob.
+"""A replay in the compact form the page reads: a JSON header and two binary blobs.
 
-The blob is the per-cycle arrays back to back, little-endian, each starting on an 8-byte
-boundary; the header lists each array's ``name``, ``dtype`` (a JavaScript typed-array name),
-``shape`` and byte ``offset``. Positions stay float32 (as recorded), so what the page draws is
-exactly what the replay holds. A full 11 v 11 match (30,000 cycles) is ~13 MB without extras
-(positions 8 MB, heard masks 2.6 MB), ~27 MB with them (beliefs as float32).
-Everything else (field geometry, teams, score, kicks, goals, the view cone) is in the header.
+Each blob is per-cycle arrays back to back, little-endian, each starting on an 8-byte
+boundary; the header lists each array's ``name``, ``group``, ``dtype`` (a JavaScript
+typed-array name), ``shape`` and byte ``offset`` in its group's blob. Group ``core`` (positions,
+ball, play mode, score, time: ~8.6 MB for a full 11 v 11 match of 30,000 cycles) is all the
+page needs to play; group ``overlays`` (falls, messages, beliefs, roles: ~4 MB without extras,
+~18 MB with them) follows while it plays. Positions stay float32 (as recorded), so what the
+page draws is exactly what the replay holds. Everything else (field geometry, teams, score,
+kicks, goals, the view cone) is in the header.
 """
 
 from __future__ import annotations
@@ -25,42 +27,48 @@ _JS_TYPES = {np.dtype(np.float32): "Float32Array", np.dtype(np.int8): "Int8Array
              np.dtype(np.uint16): "Uint16Array", np.dtype(np.int32): "Int32Array",
              np.dtype(np.uint32): "Uint32Array"}
 
-#: Per-cycle arrays sent when the replay has them, with the dtype they travel as (float16 and
-#: float64 become float32: JavaScript has no float16 view everywhere, and float32 is enough).
+#: Per-cycle arrays sent when the replay has them: (group, the dtype they travel as). float16
+#: and float64 become float32: JavaScript has no float16 view everywhere, and float32 is enough.
 _CYCLE_ARRAYS = {
-    "players": np.float32, "ball": np.float32, "play_mode": np.int8, "score": np.int16,
-    "time_s": np.float32, "attack_sign": np.int8, "fallen": np.uint8, "say_bytes": np.uint8,
-    "heard_from": np.uint32, "belief_pose": np.float32, "belief_ball": np.float32,
-    "role": np.int8,
+    "players": ("core", np.float32), "ball": ("core", np.float32),
+    "play_mode": ("core", np.int8), "score": ("core", np.int16), "time_s": ("core", np.float32),
+    "attack_sign": ("overlays", np.int8), "fallen": ("overlays", np.uint8),
+    "say_bytes": ("overlays", np.uint8), "heard_from": ("overlays", np.uint32),
+    "belief_pose": ("overlays", np.float32), "belief_ball": ("overlays", np.float32),
+    "role": ("overlays", np.int8),
 }
+GROUPS = ("core", "overlays")
 #: Per-event arrays (kicks, goals) sent in the header as lists.
 _EVENT_ARRAYS = ("kick_cycle", "kick_player", "goal_cycle", "goal_team", "goal_player")
 
 
-def replay_arrays(replay: Replay) -> dict[str, np.ndarray]:
-    """The per-cycle arrays of ``replay`` that the page uses, in their travel dtypes."""
+def replay_arrays(replay: Replay) -> dict[str, tuple[str, np.ndarray]]:
+    """The per-cycle arrays of ``replay`` that the page uses: name -> (group, array in its
+    travel dtype)."""
     out = {}
-    for name, dtype in _CYCLE_ARRAYS.items():
+    for name, (group, dtype) in _CYCLE_ARRAYS.items():
         value = getattr(replay, name, None)
         if value is not None:
-            out[name] = np.ascontiguousarray(value, dtype=dtype)
+            out[name] = (group, np.ascontiguousarray(value, dtype=dtype))
     return out
 
 
-def encode_replay(replay: Replay, match_id: int) -> tuple[dict[str, Any], bytes]:
-    """(header, blob) of ``replay``: see the module docstring."""
-    layout, chunks, offset = [], [], 0
-    for name, array in replay_arrays(replay).items():
+def encode_replay(replay: Replay, match_id: int) -> tuple[dict[str, Any], dict[str, bytes]]:
+    """(header, {group: blob}) of ``replay``: see the module docstring."""
+    layout = []
+    chunks: dict[str, list[bytes]] = {group: [] for group in GROUPS}
+    sizes = dict.fromkeys(GROUPS, 0)
+    for name, (group, array) in replay_arrays(replay).items():
         data = array.astype(array.dtype.newbyteorder("<"), copy=False).tobytes()
-        layout.append({"name": name, "dtype": _JS_TYPES[array.dtype], "shape": list(array.shape),
-                       "offset": offset})
+        layout.append({"name": name, "group": group, "dtype": _JS_TYPES[array.dtype],
+                       "shape": list(array.shape), "offset": sizes[group]})
         pad = -len(data) % 8
-        chunks.append(data + b"\0" * pad)
-        offset += len(data) + pad
+        chunks[group].append(data + b"\0" * pad)
+        sizes[group] += len(data) + pad
     header = replay_header(replay, match_id)
     header["arrays"] = layout
-    header["bytes"] = offset
-    return header, b"".join(chunks)
+    header["bytes"] = sizes
+    return header, {group: b"".join(parts) for group, parts in chunks.items()}
 
 
 def replay_header(replay: Replay, match_id: int) -> dict[str, Any]:

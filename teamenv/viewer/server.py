@@ -8,7 +8,8 @@ Routes (GET):
   ``default_match``);
 - ``/api/matches``: the matches that can be opened (a replay file: one, id 0);
 - ``/api/matches/<id>/header``: field, teams, result, events, view cone and the blob layout;
-- ``/api/matches/<id>/arrays``: the per-cycle arrays as one binary blob (``payload.py``);
+- ``/api/matches/<id>/arrays/core`` and ``.../arrays/overlays``: the per-cycle arrays as
+  two binary blobs, what playing needs and what the overlays add (``payload.py``);
 - ``/api/matches/<id>/stats``: the match statistics (``teamenv.analytics``), 404 when the
   analytics package is not installed.
 
@@ -37,7 +38,7 @@ from teamenv.viewer.sources import ViewerSource
 STATIC_FILES = {"index.html": "text/html; charset=utf-8",
                 "viewer.js": "text/javascript; charset=utf-8",
                 "viewer.css": "text/css; charset=utf-8"}
-_MATCH_ROUTE = re.compile(r"^/api/matches/(-?\d+)/(header|arrays|stats)$")
+_MATCH_ROUTE = re.compile(r"^/api/matches/(-?\d+)/(header|arrays/core|arrays/overlays|stats)$")
 
 
 def static_file(name: str) -> bytes:
@@ -99,10 +100,10 @@ class _Handler(BaseHTTPRequestHandler):
         match_id, what = int(found.group(1)), found.group(2)
         if what == "stats":
             return self._json(self.viewer.stats(match_id))
-        header, blob = self.viewer.encoded(match_id)
+        header, blobs = self.viewer.encoded(match_id)
         if what == "header":
             return self._json(header)
-        return self._send(blob, "application/octet-stream")
+        return self._send(blobs[what.split("/")[1]], "application/octet-stream")
 
     def _static(self, name: str) -> None:
         if name not in STATIC_FILES:
@@ -128,14 +129,16 @@ class ViewerServer:
     """Serves ``source`` on ``host:port`` (port 0: a free port; see ``url``).
 
     ``start()`` serves from a daemon thread, ``serve_forever()`` from the calling one;
-    ``close()`` stops it. Encoded replays are kept per match, so reopening one is instant.
+    ``close()`` stops it. The open match's encoding and statistics are kept, so reloading the
+    page is instant. ``prepare``: encode the match the page opens first in the background at
+    once, so the page's first request finds it ready.
     """
 
     def __init__(self, source: ViewerSource, host: str = "127.0.0.1", port: int = 0,
-                 verbose: bool = False) -> None:
+                 verbose: bool = False, prepare: bool = True) -> None:
         self.source = source
         self.verbose = verbose
-        self._encoded: dict[int, tuple[dict[str, Any], bytes]] = {}
+        self._encoded: dict[int, tuple[dict[str, Any], dict[str, bytes]]] = {}
         self._stats: dict[int, dict[str, Any]] = {}
         self._lock = threading.Lock()
         try:
@@ -144,14 +147,23 @@ class ViewerServer:
             raise ViewerError(f"cannot serve on {host}:{port}: {exc}") from exc
         self.httpd.daemon_threads = True
         self._thread: threading.Thread | None = None
+        if prepare and source.default_match() is not None:
+            threading.Thread(target=self._prepare, args=(source.default_match(),), daemon=True,
+                             name="teamenv-viewer-prepare").start()
+
+    def _prepare(self, match_id: int) -> None:
+        try:
+            self.encoded(match_id)
+        except Exception:  # noqa: BLE001, S110 - the page's own request reports it
+            pass
 
     @property
     def url(self) -> str:
         host, port = self.httpd.server_address[:2]
         return f"http://{host}:{port}/"
 
-    def encoded(self, match_id: int) -> tuple[dict[str, Any], bytes]:
-        """(header, blob) of one match, encoded once."""
+    def encoded(self, match_id: int) -> tuple[dict[str, Any], dict[str, bytes]]:
+        """(header, {group: blob}) of one match, encoded once."""
         with self._lock:
             if match_id not in self._encoded:
                 self._encoded = {match_id: encode_replay(self.source.replay(match_id), match_id)}

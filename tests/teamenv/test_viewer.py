@@ -42,16 +42,26 @@ def record_tournament(db: Path, replay_dir: Path) -> Path:
     return db
 
 
-def decode_arrays(header: dict, blob: bytes) -> dict[str, np.ndarray]:
-    """The page's view of the blob, in numpy (little-endian typed arrays at their offsets)."""
+def decode_arrays(header: dict, blobs: dict[str, bytes]) -> dict[str, np.ndarray]:
+    """The page's view of the blobs, in numpy (little-endian typed arrays at their offsets)."""
     types = {"Float32Array": "<f4", "Int8Array": "i1", "Uint8Array": "u1", "Int16Array": "<i2",
              "Uint16Array": "<u2", "Int32Array": "<i4", "Uint32Array": "<u4"}
     out = {}
     for spec in header["arrays"]:
         count = int(np.prod(spec["shape"]))
-        out[spec["name"]] = np.frombuffer(blob, types[spec["dtype"]], count,
+        out[spec["name"]] = np.frombuffer(blobs[spec["group"]], types[spec["dtype"]], count,
                                           spec["offset"]).reshape(spec["shape"])
     return out
+
+
+def get_arrays(url: str, header: dict) -> dict[str, np.ndarray]:
+    """Both blobs of a match from the server, decoded; each has the size the header says."""
+    blobs = {}
+    for group in ("core", "overlays"):
+        status, blobs[group], kind = get(url + f"/arrays/{group}")
+        assert status == 200 and kind == "application/octet-stream"
+        assert len(blobs[group]) == header["bytes"][group]
+    return decode_arrays(header, blobs)
 
 
 def get(url: str) -> tuple[int, bytes, str]:
@@ -86,15 +96,17 @@ def test_replay_arrays_travel_exactly(replay_server, replay_path):
     header = json.loads(body)
     assert header["cycles"] == len(replay) and header["team_size"] == 3
     assert header["field"]["length"] == 30.0 and header["left"] == "full"
-    status, blob, kind = get(replay_server.url + "api/matches/0/arrays")
-    assert status == 200 and kind == "application/octet-stream"
-    assert len(blob) == header["bytes"]
-    arrays = decode_arrays(header, blob)
+    arrays = get_arrays(replay_server.url + "api/matches/0", header)
+    core = {spec["name"] for spec in header["arrays"] if spec["group"] == "core"}
+    assert core == {"players", "ball", "play_mode", "score", "time_s"}  # enough to play
     np.testing.assert_array_equal(arrays["players"], replay.players)
     np.testing.assert_array_equal(arrays["ball"], replay.ball)
     np.testing.assert_array_equal(arrays["play_mode"], replay.play_mode)
     np.testing.assert_array_equal(arrays["score"], replay.score)
     np.testing.assert_allclose(arrays["time_s"], replay.time_s, atol=1e-4)
+    np.testing.assert_array_equal(arrays["heard_from"], replay.heard_from)
+    np.testing.assert_array_equal(arrays["fallen"], replay.fallen)
+    assert "belief_pose" not in arrays  # recorded without extras
     assert all(spec["offset"] % 8 == 0 for spec in header["arrays"])
 
 
@@ -126,7 +138,8 @@ def test_source_and_match_list_of_a_replay_file(replay_server, replay_path):
         (0, "full", "chaser", "recorded")]
 
 
-@pytest.mark.parametrize("path", ["api/matches/7/header", "api/matches/7/arrays", "nowhere",
+@pytest.mark.parametrize("path", ["api/matches/7/header", "api/matches/7/arrays/core",
+                                  "api/matches/0/arrays/other", "nowhere",
                                   "static/secret.py", "static/../server.py"])
 def test_unknown_pages_and_matches_are_404_with_a_message(replay_server, path):
     status, body, kind = get(replay_server.url + path)
@@ -158,8 +171,7 @@ def test_tournament_lists_its_matches_and_serves_their_replays(tournament_db):
         for record in records:
             header = json.loads(get(server.url + f"api/matches/{record.id}/header")[1])
             assert (header["left"], header["right"]) == (record.left_team, record.right_team)
-            blob = get(server.url + f"api/matches/{record.id}/arrays")[1]
-            players = decode_arrays(header, blob)["players"]
+            players = get_arrays(server.url + f"api/matches/{record.id}", header)["players"]
             np.testing.assert_array_equal(players, load_replay(record.replay_path).players)
 
 
@@ -170,7 +182,7 @@ def test_truncated_replay_of_a_tournament_match_is_a_422(tournament_db, tmp_path
     try:
         Path(record.replay_path).write_bytes(data[: len(data) // 3])
         with ViewerServer(open_source(tournament_db)).start() as server:
-            status, body, _ = get(server.url + f"api/matches/{record.id}/arrays")
+            status, body, _ = get(server.url + f"api/matches/{record.id}/arrays/core")
             assert status == 422
             error = json.loads(body)["error"]
             assert record.replay_path in error and "not a readable teamenv replay" in error

@@ -250,7 +250,8 @@ def test_belief_role_and_heard_overlays(page, replay):
     rich = with_overlays(replay)
     with ViewerServer(InMemorySource(rich)).start() as server:
         page.goto(server.url + f"?cycle={SEEK_CYCLE}")
-        page.wait_for_function(READY + f" && teamenvViewer.state.cycle === {SEEK_CYCLE}")
+        page.wait_for_function(READY + f" && teamenvViewer.state.cycle === {SEEK_CYCLE}"
+                               " && teamenvViewer.state.overlaysLoaded")
         page.evaluate("teamenvViewer.select(1)")
         drawn = page.evaluate("teamenvViewer.state.drawn")
         (belief,) = drawn["beliefs"]

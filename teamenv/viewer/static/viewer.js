@@ -18,7 +18,8 @@
 
   // Everything a test may read; positions in field coordinates (metres, radians).
   const state = {
-    ready: false,          // a replay is loaded and drawn
+    ready: false,          // a replay is loaded and drawn (it can play)
+    overlaysLoaded: false, // its overlay arrays (falls, messages, beliefs, roles) are in too
     error: null,           // the last error message shown to the user
     source: null,          // /api/source
     matches: [],           // /api/matches
@@ -52,18 +53,22 @@
     return body;
   }
 
-  async function fetchArrays(id, header) {
-    const res = await fetch(`/api/matches/${id}/arrays`);
+  // One group's blob ("core": what playing needs; "overlays": falls, messages, beliefs,
+  // roles) as typed-array views, by name.
+  async function fetchArrays(id, header, group) {
+    const res = await fetch(`/api/matches/${id}/arrays/${group}`);
     if (!res.ok) {
       const body = await res.json().catch(() => ({}));
-      throw new Error(body.error || `arrays of match ${id}: HTTP ${res.status}`);
+      throw new Error(body.error || `${group} arrays of match ${id}: HTTP ${res.status}`);
     }
     const buffer = await res.arrayBuffer();
-    if (buffer.byteLength !== header.bytes) {
-      throw new Error(`arrays of match ${id}: got ${buffer.byteLength} bytes, expected ${header.bytes}`);
+    if (buffer.byteLength !== header.bytes[group]) {
+      throw new Error(`${group} arrays of match ${id}: got ${buffer.byteLength} bytes, ` +
+        `expected ${header.bytes[group]}`);
     }
     const out = {};
     for (const spec of header.arrays) {
+      if (spec.group !== group) continue;
       const Type = window[spec.dtype];
       const count = spec.shape.reduce((a, b) => a * b, 1);
       out[spec.name] = new Type(buffer, spec.offset, count);
@@ -87,10 +92,11 @@
     try {
       const header = await fetchJSON(`/api/matches/${id}/header`);
       state.timing.headerMs = performance.now();
-      const data = await fetchArrays(id, header);
+      const data = await fetchArrays(id, header, "core");
       if (token !== loadToken) return;
       state.timing.arraysMs = performance.now();
       arrays = data;
+      state.overlaysLoaded = false;
       state.header = header;
       state.matchId = id;
       state.nCycles = header.cycles;
@@ -104,10 +110,26 @@
       state.ready = true;
       state.timing.readyMs = performance.now();
       setStatus("");
+      loadOverlays(id, header, token);
       loadStats(id, token);
     } catch (err) {
       if (token === loadToken) setStatus(err.message, true);
       throw err;
+    }
+  }
+
+  // The overlay arrays arrive while the match already plays; then they are drawn too.
+  async function loadOverlays(id, header, token) {
+    try {
+      const data = await fetchArrays(id, header, "overlays");
+      if (token !== loadToken) return;
+      Object.assign(arrays, data);
+      state.overlaysLoaded = true;
+      state.timing.overlaysMs = performance.now();
+      draw();
+      renderAgent();
+    } catch (err) {
+      if (token === loadToken) setStatus(err.message, true);
     }
   }
 
