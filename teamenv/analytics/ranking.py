@@ -165,3 +165,19 @@ def usable(matches: Sequence[MatchMargins], metric: str) -> list[MatchMargins]:
                           "stored when a tournament runs with statistics on (the default "
                           "since teamenv.analytics; older databases have none)")
     return keep
+
+
+def separated_pairings(records: Sequence, team_stats: dict[int, dict[str, dict]] | None,
+                       metric: str, confidence: float = 0.95,
+                       min_matches: int = MIN_MATCHES) -> set[str]:
+    """The pairings ("A vs B", ``MatchRecord.pairing``) whose stored matches already separate
+    A from B on ``metric`` (``separated``); matches without the metric's numbers are left out."""
+    check_metric(metric)
+    margins: dict[str, list[float]] = {}
+    for record, match in zip(records, match_margins(records, team_stats), strict=True):
+        try:
+            d = match.margin(metric)
+        except ConfigError:  # no statistics stored for this match
+            continue
+        margins.setdefault(record.pairing, []).append(-d if record.swapped else d)
+    return {p for p, d in margins.items() if separated(d, confidence, min_matches)}

@@ -53,6 +53,9 @@ def add_tournament_commands(subparsers: argparse._SubParsersAction) -> None:
     run.add_argument("--resume", action="store_true", help="continue a stored tournament: "
                      "play only the missing matches (teams/options may be omitted)")
     run.add_argument("--no-progress", action="store_true", help="no progress bar / live table")
+    run.add_argument("--stop-when-separated", action="store_true",
+                     help="play round by round and stop a pairing once its matches separate "
+                          "its teams at 95 %% on --rank-by")
     _add_output_args(run)
     run.set_defaults(func=_run)
 
@@ -131,12 +134,14 @@ def _run(args: argparse.Namespace) -> int:
         summary = run_tournament(tournament, args.db, name=args.name, resume=args.resume,
                                  backend=args.backend, jobs=args.jobs,
                                  ray_address=args.ray_address, replay_dir=args.replay_dir,
-                                 progress=not args.no_progress, console=console)
+                                 progress=not args.no_progress, console=console,
+                                 stop_when_separated=args.rank_by if args.stop_when_separated
+                                 else None)
     except KeyboardInterrupt:
         return 130
     console.print(summary.describe())
     _report(args, summary.db_path, summary.tournament.name, console, print_table=args.no_progress)
-    return 0 if summary.complete else 1
+    return 0 if summary.complete or summary.separated else 1
 
 
 def _table(args: argparse.Namespace) -> int:

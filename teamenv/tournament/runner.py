@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import tempfile
 import time
+from collections.abc import Iterator
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -35,6 +36,7 @@ class TournamentSummary:
     backend: str = "process"
     workers: int = 1
     forfeits: dict[str, int] = field(default_factory=dict)  # reason -> count (this call)
+    separated: tuple[str, ...] = ()  # pairings left unfinished: already separated
 
     @property
     def complete(self) -> bool:
@@ -53,6 +55,8 @@ class TournamentSummary:
                 f"{self.matches_per_minute:.1f} matches/min")
         for idx, err in self.failures:
             text += f"\n  match #{idx} could not be played: {err}"
+        for pairing in self.separated:
+            text += f"\n  {pairing}: stopped early, separated at 95 %"
         return text
 
 
@@ -71,7 +75,7 @@ def run_tournament(
     resume: bool = False, backend: str | Backend = "process", jobs: int | None = None,
     ray_address: str | None = None, replay_dir: str | Path | None = None,
     progress: bool = True, console: Any = None, synchronous: str = "FULL",
-    stats: bool = True,
+    stats: bool = True, stop_when_separated: str | None = None,
 ) -> TournamentSummary:
     """Play a tournament (or the missing part of one) and store every match in ``db``.
 
@@ -87,6 +91,9 @@ def run_tournament(
     ``stats``: store each match's per-team statistics (``teamenv.analytics``) in the
     ``team_stats`` table; matches are recorded to a temporary replay for it when there is no
     ``replay_dir`` (the replay is deleted once its statistics are stored).
+    ``stop_when_separated``: a ranking metric ("goals", "xg", "composite"); matches are then
+    played round by round and a pairing whose stored matches already separate its teams at
+    95 % (``teamenv.analytics.ranking.separated_pairings``) plays no further rounds.
     """
     if tournament is None and not resume:
         raise TournamentConfigError("run_tournament: give a tournament definition, or "
@@ -97,7 +104,8 @@ def run_tournament(
     try:
         with tempfile.TemporaryDirectory(prefix="teamenv-stats-") as scratch:
             return _run(store, tournament, name, resume, backend, jobs, ray_address, replay_dir,
-                        progress, console, Path(scratch) if stats else None)
+                        progress, console, Path(scratch) if stats else None,
+                        stop_when_separated)
     finally:
         store.close()
 
@@ -105,7 +113,8 @@ def run_tournament(
 def _run(store: ResultStore, tournament: Tournament | None, name: str | None, resume: bool,
          backend: str | Backend, jobs: int | None, ray_address: str | None,
          replay_dir: str | Path | None, progress: bool, console: Any,
-         stats_dir: Path | None = None) -> TournamentSummary:
+         stats_dir: Path | None = None, stop_when_separated: str | None = None
+         ) -> TournamentSummary:
     lookup = tournament.name if tournament is not None else name
     found = store.find_tournament(lookup) if (resume or lookup is not None) else None
     if found is not None and not resume:
@@ -152,7 +161,12 @@ def _run(store: ResultStore, tournament: Tournament | None, name: str | None, re
     forfeits: dict[str, int] = {}
     display = _Display(tournament, len(schedule), len(done), progress, console, teams, rows)
     start = time.perf_counter()
-    outcomes = runner.run(todo)
+    if stop_when_separated is not None:
+        from teamenv.analytics.ranking import check_metric
+
+        outcomes = _by_round(runner, todo, store, tid, check_metric(stop_when_separated))
+    else:
+        outcomes = runner.run(todo)
     try:
         with display:
             for outcome in outcomes:
@@ -187,12 +201,38 @@ def _run(store: ResultStore, tournament: Tournament | None, name: str | None, re
     finally:
         outcomes.close()
     wall = time.perf_counter() - start
+    separated: tuple[str, ...] = ()
+    if stop_when_separated is not None:
+        from teamenv.analytics.ranking import separated_pairings
+
+        stored_now = store.completed_indices(tid)
+        unfinished = {t.pairing for t in schedule if t.index not in stored_now}
+        separated = tuple(sorted(unfinished & separated_pairings(
+            store.matches(tid), store.team_stats(tid), stop_when_separated)))
     return TournamentSummary(
         tournament=tournament, db_path=store.path, tournament_id=tid, scheduled=len(schedule),
         stored=store.count_matches(tid), skipped=len(done), played=played,
         failures=tuple(store.failures(tid)), wall_s=wall, db_write_s=db_write_s,
         backend=getattr(runner, "name", type(runner).__name__),
-        workers=getattr(runner, "workers", 1), forfeits=forfeits)
+        workers=getattr(runner, "workers", 1), forfeits=forfeits, separated=separated)
+
+
+def _by_round(runner: Backend, todo: list[MatchTask], store: ResultStore, tid: int,
+              metric: str) -> Iterator[Any]:
+    """Outcomes of ``todo`` round by round, leaving out the pairings whose stored matches
+    already separate their teams on ``metric`` (checked before each round)."""
+    from teamenv.analytics.ranking import separated_pairings
+
+    for number in sorted({t.round for t in todo}):
+        done = separated_pairings(store.matches(tid), store.team_stats(tid), metric)
+        batch = [t for t in todo if t.round == number and t.pairing not in done]
+        if not batch:
+            continue
+        outcomes = runner.run(batch)
+        try:
+            yield from outcomes
+        finally:
+            outcomes.close()
 
 
 def _store_stats(store: ResultStore, tid: int, task: MatchTask, display: _Display) -> None:

@@ -1,0 +1,113 @@
+"""Rankings by goals / xG / composite with intervals, the separation rule, and a tournament
+that stops a pairing once it is separated (a scripted backend: no matches are simulated)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pytest
+
+from teamenv.analytics.ranking import (
+    MatchMargins,
+    matches_to_separate,
+    rank_teams,
+    separated,
+    separated_pairings,
+    t_interval,
+)
+from teamenv.errors import ConfigError
+from teamenv.match import MatchResult
+from teamenv.tournament import round_robin
+from teamenv.tournament.backends import Outcome
+from teamenv.tournament.runner import run_tournament
+from teamenv.tournament.store import ResultStore
+
+
+def test_margins_and_composite():
+    m = MatchMargins("a", "b", {"goals": (2, 1), "xg": (0.5, 1.5)})
+    assert (m.margin("goals"), m.margin("xg"), m.margin("composite")) == (1.0, -1.0, 0.0)
+    with pytest.raises(ConfigError, match="choose one of"):
+        m.margin("points")
+    with pytest.raises(ConfigError, match="has no 'xg' numbers"):
+        MatchMargins("a", "b", {"goals": (1, 0)}).margin("xg")
+
+
+def test_rank_teams_orders_and_bounds():
+    games = [MatchMargins("a", "b", {"goals": (g, 0), "xg": (1.0 + 0.1 * g, 0.2)})
+             for g in (0, 1, 2, 1)]
+    ranks = rank_teams(games, "xg", ["a", "b", "c"], n_bootstrap=200, seed=1)
+    assert [r.team for r in ranks] == ["a", "b", "c"]  # c never played: last, no interval
+    assert ranks[2].matches == 0 and np.isnan(ranks[2].mean)
+    a = ranks[0]
+    assert a.mean == pytest.approx(np.mean([0.8, 0.9, 1.0, 0.9]))
+    assert a.low <= a.mean <= a.high and a.matches == 4
+    again = rank_teams(games, "xg", ["a", "b", "c"], n_bootstrap=200, seed=1)
+    assert again == ranks  # seeded: same intervals
+
+
+def test_separation_rule():
+    assert not separated([1.0, 2.0])  # too few matches
+    assert separated([1.0, 2.0, 1.5])
+    assert not separated([1.0, -1.0, 0.5, -0.5])
+    mean, low, high = t_interval([1.0, 2.0, 3.0])
+    assert (mean, round(low, 3), round(high, 3)) == (2.0, -0.484, 4.484)
+    assert not separated([1.0, 2.0, 3.0]) and separated([1.0, 2.0, 3.0, 2.0, 2.0])
+    assert matches_to_separate([0.0, 1.0, 2.0, 3.0, 2.0, 2.0, 2.0]) == 5
+    assert matches_to_separate([1.0, -1.0, 1.0, -1.0]) is None
+
+
+@dataclass
+class _Record:
+    id: int
+    pairing: str
+    swapped: bool
+    left_team: str
+    right_team: str
+    left_official: int
+    right_official: int
+
+
+def test_separated_pairings_see_sides_swapped():
+    # "a vs b": a wins by 1 each time, from either side
+    recs = [_Record(k, "a vs b", k % 2 == 1, *(("b", "a", 0, 1) if k % 2 else ("a", "b", 1, 0)))
+            for k in range(4)]
+    recs += [_Record(10 + k, "a vs c", False, "a", "c", k % 2, (k + 1) % 2) for k in range(4)]
+    assert separated_pairings(recs, {}, "goals") == {"a vs b"}
+    assert separated_pairings(recs, {}, "xg") == set()  # no statistics stored
+
+
+class _ScriptedBackend:
+    """Plays nothing: the chaser wins every match 1-0, from either side."""
+
+    name = "scripted"
+    workers = 1
+
+    def __init__(self):
+        self.played = []
+
+    def run(self, tasks):
+        def outcomes():
+            for task in tasks:
+                self.played.append(task.index)
+                score = (1, 0) if task.left.name == "chaser" else (0, 1)
+                yield Outcome(task, MatchResult(task.seed, task.left.name, task.right.name,
+                                                score, (), 10, 0.01))
+        return outcomes()
+
+
+def test_tournament_stops_a_separated_pairing(tmp_path):
+    t = round_robin("stop", ["static", "chaser"], games_per_pairing=6)
+    backend = _ScriptedBackend()
+    db = tmp_path / "s.sqlite"
+    summary = run_tournament(t, db, backend=backend, progress=False,
+                             stop_when_separated="goals")
+    # two matches a round; after round 2 four +1 margins separate the pair
+    assert backend.played == [0, 1, 2, 3]
+    assert summary.stored == 4 and not summary.complete
+    assert summary.separated == ("static vs chaser",)
+    with ResultStore(db) as store:
+        assert store.count_matches(summary.tournament_id) == 4
+    # without the option, resume plays the rest
+    rest = run_tournament(None, db, resume=True, backend=_ScriptedBackend(), progress=False)
+    assert rest.complete and rest.played == 8
