@@ -1,0 +1,130 @@
+"""The sync-mode loop for all agents of a team: connect, join, then perceive/act each cycle.
+
+In sync mode the server, every cycle, first waits for one answer from each active agent and
+then sends each a perception; an agent that does not answer within 5 s is dropped. So after
+the join every agent alternates perception -> answer, and reading all perceptions before
+sending all answers cannot deadlock. During the join it can (an agent activated a cycle later
+than another gets no perception this cycle), so ``join`` answers every perception at once with
+``(syn)`` until every agent has been activated."""
+
+from __future__ import annotations
+
+import selectors
+import time
+from collections.abc import Mapping, Sequence
+
+from . import effectors
+from .connection import READ_TIMEOUT_S, Connection
+from .errors import LeagueError, ServerDiedError
+from .perception import Perception, parse_perception
+
+
+class TeamClient:
+    """All agents of one team on one server: ``join()``, then ``perceive()`` / ``act()``.
+
+    Args:
+        host, port: the server's agent port.
+        team: team name (letters, digits, ``_-.``).
+        unums: uniform numbers to connect (1-99, distinct).
+        model: robot model (``T1``).
+        strict: unknown perceptors are an error (else kept in ``Perception.unknown``).
+        check_alive: called while waiting (e.g. ``LeagueServer.check_alive``) so a dead server
+            is reported as such and not as a timeout.
+    """
+
+    def __init__(self, host: str, port: int, team: str, unums: Sequence[int], model: str = "T1",
+                 strict: bool = True, check_alive=None, timeout_s: float = READ_TIMEOUT_S) -> None:
+        if len(set(unums)) != len(unums) or not unums:
+            raise LeagueError(f"team {team}: uniform numbers must be distinct and non-empty: "
+                              f"{list(unums)}")
+        self.team = team
+        self.unums = tuple(unums)
+        self.strict = strict
+        self.timeout_s = timeout_s
+        self._check_alive = check_alive or (lambda: None)
+        self._inits = {u: effectors.init(team, u, model) for u in self.unums}
+        self._conns: dict[int, Connection] = {}
+        self._host, self._port = host, port
+        self.last: dict[int, Perception] = {}
+        self.cycles = 0
+
+    def who(self, unum: int) -> str:
+        return f"agent {self.team}_{unum}"
+
+    # -- lifecycle ---------------------------------------------------------------------------
+    def connect(self) -> None:
+        """Open every agent's connection and send its ``init``."""
+        for u in self.unums:
+            conn = Connection(self._host, self._port, self.who(u), self.timeout_s)
+            self._conns[u] = conn
+            conn.send(self._inits[u])
+
+    def join(self) -> dict[int, Perception]:
+        """Wait until every agent has had a perception (answering each with ``(syn)``)."""
+        join_teams([self])
+        return dict(self.last)
+
+    def _read(self, unum: int) -> Perception:
+        try:
+            text = self._conns[unum].receive()
+        except ServerDiedError:
+            self._check_alive()
+            raise
+        return parse_perception(text, strict=self.strict, who=self.who(unum))
+
+    def perceive(self) -> dict[int, Perception]:
+        """One perception per agent (blocks until each has arrived)."""
+        self.last = {u: self._read(u) for u in self.unums}
+        return dict(self.last)
+
+    def act(self, actions: Mapping[int, str] | None = None) -> None:
+        """Answer this cycle: ``actions[unum]`` is the agent's message (``(syn)`` if absent)."""
+        actions = actions or {}
+        unknown = set(actions) - set(self.unums)
+        if unknown:
+            raise LeagueError(f"team {self.team}: actions for unknown agents {sorted(unknown)}")
+        for u in self.unums:
+            self._conns[u].send(actions.get(u) or effectors.SYN)
+        self.cycles += 1
+
+    def close(self) -> None:
+        for conn in self._conns.values():
+            conn.close()
+        self._conns.clear()
+
+    def __enter__(self) -> TeamClient:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def join_teams(clients: Sequence[TeamClient]) -> None:
+    """Connect every team's agents and wait until all are active, answering each perception
+    with ``(syn)`` as it comes (teams sharing a server must join together: an agent already
+    active that is not answered while another team joins is dropped after 5 s)."""
+    for c in clients:
+        if not c._conns:
+            c.connect()
+    pending = {(i, u) for i, c in enumerate(clients) for u in c.unums}
+    timeout_s = max(c.timeout_s for c in clients)
+    deadline = time.monotonic() + timeout_s
+    with selectors.DefaultSelector() as sel:
+        for i, c in enumerate(clients):
+            for u, conn in c._conns.items():
+                sel.register(conn, selectors.EVENT_READ, (i, u))
+        while pending:
+            ready = sel.select(timeout=0.5)
+            if not ready:
+                for c in clients:
+                    c._check_alive()
+                if time.monotonic() > deadline:
+                    names = sorted(clients[i].who(u) for i, u in pending)
+                    raise ServerDiedError(f"{names} got no perception in {timeout_s:.0f} s "
+                                          "after init")
+            for key, _ in ready:
+                i, u = key.data
+                c = clients[i]
+                c.last[u] = c._read(u)
+                c._conns[u].send(effectors.SYN)
+                pending.discard((i, u))
