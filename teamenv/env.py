@@ -20,7 +20,7 @@ from teamenv.config import (
     build_config,
     perception_config,
 )
-from teamenv.errors import ActionError, ConfigError, TeamFault
+from teamenv.errors import ActionError, ConfigError, TeamFault, value_repr
 from teamenv.field import FieldSpec, field_preset
 from teamenv.lazy import LazyInfos, LazyObservations
 from teamenv.rewards import RewardTerms, reward_weights
@@ -410,9 +410,10 @@ class SoccerParallelEnv(ParallelEnv):
         if unknown:
             why = ("benched by the scenario" if unknown[0] in self.benched_agents else
                    "driven by a team plugin" if any(
-                       str(a).split("_")[0] in self.teams for a in unknown)
+                       isinstance(a, str) and a.split("_")[0] in self.teams for a in unknown)
                    else "not an agent of this env")
-            self._agent_problem(unknown[0], f"unknown agent {unknown[0]!r} ({why}); agents are "
+            self._agent_problem(unknown[0], f"unknown agent {value_repr(unknown[0])} ({why}); "
+                                f"agents are "
                                 f"{self.agents[:3]}...", dropped)
         missing = [] if exact else [a for a in self.agents if a not in actions]
         if missing:
@@ -505,7 +506,9 @@ class SoccerParallelEnv(ParallelEnv):
         import warnings
 
         warnings.warn(message, RuntimeWarning, stacklevel=3)
-        dropped.setdefault(str(agent), []).append(message)
+        # A key that is no str is no agent: listed under its repr (str() of a huge int raises).
+        dropped.setdefault(agent if isinstance(agent, str) else value_repr(agent), []).append(
+            message)
 
     def _refresh_observations(self) -> None:
         flat = self.observation_format == "box"

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 
 class TeamEnvError(Exception):
     """Base class of every error teamenv raises on purpose."""
@@ -46,3 +48,18 @@ class TeamFault(TeamEnvError, RuntimeError):
         self.side = side
         self.reason = reason
         self.detail = detail
+
+
+def value_repr(value: Any, limit: int = 80) -> str:
+    """``repr(value)`` cut to ``limit`` characters, for error messages about the caller's input.
+
+    Never raises: the value is whatever the caller passed, and a message about it must not
+    fail in its turn (``repr`` of an int of more than 4,300 digits raises ValueError; a
+    third-party object's ``__repr__`` may raise anything)."""
+    if isinstance(value, int) and value.bit_length() > 1024:
+        return f"<int of {value.bit_length()} bits>"
+    try:
+        text = repr(value)
+    except Exception:  # any failure of a foreign __repr__: name the type instead
+        return f"<{type(value).__name__} object>"
+    return text if len(text) <= limit else text[:limit - 3] + "..."
