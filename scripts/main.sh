@@ -12,8 +12,10 @@ mkdir -p out
 echo "== one match: full vs chaser, simspark 11 v 11, two 60 s halves =="
 "$VENV/bin/teamenv" match full chaser --seed 1 --half-time 60 --replay out/match.npz --gif out/match.gif
 echo
-echo "== a small tournament: round robin of the built-in teams, 2 seeds x both sides per pairing =="
+echo "== a small tournament: round robin of full, chaser and static, 7 v 7 on mj7v7, two 150 s halves, =="
+echo "== one seeded round x both sides per pairing; ranked on points, then on expected goals with intervals =="
+echo "== (silent is full without talk: the two differ only in vision mode, see docs/team_strength.md) =="
 rm -f out/tournament.sqlite
-"$VENV/bin/teamenv" tournament run full silent chaser static --games 2 \
-    --half-time 30 --team-size 5 --db out/tournament.sqlite -j 2 \
-    --csv out/table.csv --json out/table.json --plots out/plots
+"$VENV/bin/teamenv" tournament run full chaser static --games 1 \
+    --field mj7v7 --team-size 7 --half-time 150 --db out/tournament.sqlite -j 2 \
+    --rank-by xg --csv out/table.csv --json out/table.json --plots out/plots
