@@ -8,6 +8,7 @@ the score against the database.
 
 from __future__ import annotations
 
+import sqlite3
 import threading
 from collections import OrderedDict
 from pathlib import Path
@@ -125,6 +126,7 @@ class TournamentSource(ViewerSource):
 
     def __init__(self, path: Path) -> None:
         super().__init__(path)
+        _require_tournament_tables(path)
         self.matches()  # a database that cannot be read fails here, before serving
 
     def _store(self) -> Any:
@@ -163,6 +165,24 @@ class TournamentSource(ViewerSource):
             status = 404 if "no match with id" in str(exc) else 422
             raise ViewerError(str(exc), status=status) from exc
         return read_replay(path)
+
+
+def _require_tournament_tables(path: Path) -> None:
+    """Refuse an SQLite file that is not a teamenv results database, reading it read-only
+    (ResultStore would add its tables to any database it opens)."""
+    try:
+        conn = sqlite3.connect(f"{path.resolve().as_uri()}?mode=ro", uri=True)
+        try:
+            names = {r[0] for r in conn.execute("SELECT name FROM sqlite_master "
+                                                "WHERE type='table'")}
+        finally:
+            conn.close()
+    except sqlite3.DatabaseError as exc:
+        raise ViewerError(f"database {str(path)!r}: cannot be read ({exc})") from exc
+    missing = {"tournaments", "matches"} - names
+    if missing:
+        raise ViewerError(f"database {str(path)!r}: not a teamenv tournament database (no "
+                          f"table {', '.join(sorted(missing))})")
 
 
 def open_source(path: str | Path) -> ViewerSource:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import importlib.util
 import json
+import sqlite3
 import subprocess
 import sys
 import urllib.error
@@ -209,6 +210,18 @@ def test_bad_files_are_clear_errors(replay_path, tmp_path):
     np.savez(bad_shape, **arrays)
     with pytest.raises(ViewerError, match=r"players'? has shape"):
         open_source(bad_shape)
+
+
+def test_a_foreign_sqlite_file_is_refused_and_left_as_it_was(tmp_path):
+    db = tmp_path / "other.sqlite"
+    conn = sqlite3.connect(db)
+    conn.execute("CREATE TABLE notes (text TEXT)")
+    conn.commit()
+    conn.close()
+    before = db.read_bytes()
+    with pytest.raises(ViewerError, match="not a teamenv tournament database"):
+        open_source(db)
+    assert db.read_bytes() == before
 
 
 def test_cli_reports_a_bad_replay_and_exits_2(replay_path, tmp_path, capsys):
