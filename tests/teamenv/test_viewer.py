@@ -192,6 +192,25 @@ def test_truncated_replay_of_a_tournament_match_is_a_422(tournament_db, tmp_path
         Path(record.replay_path).write_bytes(data)
 
 
+def test_a_match_without_its_replay_file_is_played_again(tournament_db):
+    with ResultStore(tournament_db) as store:
+        record = store.matches(store.get_tournament("mini")[0])[-1]
+    recorded = load_replay(record.replay_path)
+    path, moved = Path(record.replay_path), Path(record.replay_path + ".away")
+    path.rename(moved)
+    try:
+        with ViewerServer(open_source(tournament_db)).start() as server:
+            listed = {m["id"]: m["replay"] for m in json.loads(get(server.url + "api/matches")[1])}
+            assert listed[record.id] == "played again from its seed"
+            status, body, _ = get(server.url + f"api/matches/{record.id}/header")
+            assert status == 200
+            header = json.loads(body)
+            again = get_arrays(server.url + f"api/matches/{record.id}", header)
+            np.testing.assert_array_equal(again["players"], recorded.players)
+    finally:
+        moved.rename(path)
+
+
 def test_bad_files_are_clear_errors(replay_path, tmp_path):
     with pytest.raises(ViewerError, match="no such file"):
         open_source(tmp_path / "missing.npz")
