@@ -211,6 +211,24 @@ def test_a_match_without_its_replay_file_is_played_again(tournament_db):
         moved.rename(path)
 
 
+def test_a_format_1_replay_plays_without_overlays_or_stats(replay_path, tmp_path):
+    old = tmp_path / "format1.npz"
+    with np.load(replay_path) as data:
+        meta = json.loads(bytes(data["metadata"]).decode())
+        arrays = {k: data[k] for k in ("ball", "players", "play_mode", "score", "time_s")}
+    meta["format"] = 1
+    np.savez_compressed(old, **arrays, metadata=np.frombuffer(json.dumps(meta).encode(),
+                                                              dtype=np.uint8))
+    with ViewerServer(open_source(old)).start() as server:
+        header = json.loads(get(server.url + "api/matches/0/header")[1])
+        assert header["bytes"]["overlays"] == 0
+        np.testing.assert_array_equal(get_arrays(server.url + "api/matches/0", header)["players"],
+                                      arrays["players"])
+        status, body, _ = get(server.url + "api/matches/0/stats")
+        if importlib.util.find_spec("teamenv.analytics") is not None:
+            assert status == 422 and "format" in json.loads(body)["error"]
+
+
 def test_bad_files_are_clear_errors(replay_path, tmp_path):
     with pytest.raises(ViewerError, match="no such file"):
         open_source(tmp_path / "missing.npz")
