@@ -46,7 +46,7 @@ class StepResult:
 class Bodies:
     """Locomotion state of ``n_players`` humanoids sharing one :class:`Profile`.
 
-    Model (all per player, vectorised, documented in ``docs/readme/locomotion.md``):
+    Model (all per player, vectorised, documented in ``docs/locomotion.md``):
 
     * **Walk.** The body moves at a velocity held constant during a step of period
       ``T = profile.step_period`` and displaces exactly as seed 001 eq. 4 says. At each step

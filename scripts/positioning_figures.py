@@ -1,4 +1,4 @@
-"""Regenerates the positioning figures of the README (docs/positioning_*.png) with our plot code."""
+"""Regenerates the figures of the positioning page (docs/positioning_*.png) with our plot code."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 from strategy.positioning.formation import builtin_formation, plot_formation  # noqa: E402
 from strategy.positioning.roles import assign_roles, tally_votes  # noqa: E402

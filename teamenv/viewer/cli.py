@@ -34,8 +34,9 @@ def _run(args: argparse.Namespace) -> int:
     server = ViewerServer(source, host=args.host, port=args.port, verbose=args.verbose)
     print(f"teamenv viewer: {source.kind} {str(args.path)!r} at {server.url} (Ctrl-C to stop)",
           flush=True)
-    if not args.no_browser:
-        webbrowser.open(server.url)
+    if not args.no_browser and not webbrowser.open(server.url):
+        print("teamenv viewer: no browser to open here; open the address above yourself",
+              flush=True)
     try:
         server.serve_forever()
     except KeyboardInterrupt:
