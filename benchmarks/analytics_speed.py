@@ -1,14 +1,17 @@
 """Statistics speed and replay size of a full 11 v 11 match (30,000 cycles).
 
     python benchmarks/analytics_speed.py --replay-dir /tmp/speed            # play, then time
-    python benchmarks/analytics_speed.py --replay-dir /tmp/speed --json benchmarks/results/analytics_speed.json
+    python benchmarks/analytics_speed.py --replay-dir /tmp/speed --half-time 30 --tile 10
 
-Plays (once; a replay already in ``--replay-dir`` is reused) one full-length match ``--left``
-vs ``--right`` (default full vs full, both annotate) on ``simspark`` 11 v 11, 2 x 300 s, in
-``--observation`` mode, recorded with extras; writes it twice, with and without the extras
-(each agent's belief pose, ball, role and role vector), and reports the two file sizes. Then
-times, best of ``--repeats``: loading the replay, ``match_events`` and ``match_stats`` (what
-``teamenv stats`` does, less printing), and the HTML report's figures.
+Plays (once; a replay already in ``--replay-dir`` is reused) one match ``--left`` vs
+``--right`` (default full vs full, both annotate) on ``simspark`` 11 v 11, 2 x
+``--half-time`` s (default 300: 30,000 cycles), in ``--observation`` mode, recorded with
+extras; writes it twice, with and without the extras (each agent's belief pose, ball, role and
+role vector), and reports both file sizes (and, for a shorter match, the size scaled to 30,000
+cycles). Then times, best of ``--repeats``: loading the replay, ``match_events`` and
+``match_stats`` (what ``teamenv stats`` does, less printing), and the HTML report's figures.
+``--tile K`` also times a synthetic replay made of the recorded match K times in a row (its
+events shifted), to time a full-length replay when playing one is too slow.
 """
 
 from __future__ import annotations
@@ -21,18 +24,19 @@ from pathlib import Path
 from typing import Any
 
 
-def play(replay_dir: Path, left: str, right: str, seed: int, observation: str) -> tuple[Path,
-                                                                                      Path]:
+def play(replay_dir: Path, left: str, right: str, seed: int, observation: str,
+         half_time: float) -> tuple[Path, Path]:
     """The replay with and without extras (played when missing)."""
     import teamenv
     from teamenv.replay import ReplayRecorder
 
-    stem = f"{left}-{right}-{seed}-{observation}"
+    stem = f"{left}-{right}-{seed}-{observation}-{half_time:g}"
     with_extras, plain = replay_dir / f"{stem}-extras.npz", replay_dir / f"{stem}.npz"
     if with_extras.exists() and plain.exists():
         return with_extras, plain
     env = teamenv.parallel_env(left=left, right=right, field="simspark", team_size=11,
-                               observation_mode=observation, profile_phases=False)
+                               observation_mode=observation, profile_phases=False,
+                               rules={"half_time_s": half_time})
     recorder = ReplayRecorder(env, extras=True)
     env.reset(seed=seed)
     recorder.record()
@@ -46,6 +50,29 @@ def play(replay_dir: Path, left: str, right: str, seed: int, observation: str) -
     recorder.extras = False  # the same match, written without the extras
     recorder.save(plain, meta)
     return with_extras, plain
+
+
+def tiled(path: Path, times: int, out: Path) -> Path:
+    """Write the replay at ``path`` ``times`` times in a row (events shifted) to ``out``."""
+    import numpy as np
+
+    with np.load(path) as data:
+        arrays = {k: data[k] for k in data.files}
+    t = len(arrays["time_s"])
+    per_cycle = [k for k, v in arrays.items() if k != "metadata" and len(v) == t
+                 and not k.endswith(("_cycle", "_player", "_distance", "_direction", "_team"))]
+    events = [k for k in arrays if k.startswith(("kick_", "touch_", "goal_"))]
+    out_arrays = dict(arrays)
+    for k in per_cycle:
+        out_arrays[k] = np.concatenate([arrays[k]] * times)
+    out_arrays["time_s"] = np.concatenate([arrays["time_s"] + i * (arrays["time_s"][-1] + 0.02)
+                                           for i in range(times)])
+    for k in events:
+        parts = [arrays[k] + i * t if k.endswith("_cycle") else arrays[k] for i in range(times)]
+        out_arrays[k] = np.concatenate(parts)
+    with open(out, "wb") as fh:
+        np.savez_compressed(fh, **out_arrays)
+    return out
 
 
 def best_of(repeats: int, fn: Any) -> tuple[float, Any]:
@@ -65,6 +92,8 @@ def main(argv: Sequence[str] | None = None) -> None:
     parser.add_argument("--seed", type=int, default=5000)
     parser.add_argument("--observation", default="state", choices=("state", "vision"))
     parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--half-time", type=float, default=300.0)
+    parser.add_argument("--tile", type=int, default=1, help="also time the match K times in a row")
     parser.add_argument("--json", type=Path)
     args = parser.parse_args(argv)
     args.replay_dir.mkdir(parents=True, exist_ok=True)
@@ -75,19 +104,27 @@ def main(argv: Sequence[str] | None = None) -> None:
     from teamenv.replay import load_replay
 
     with_extras, plain = play(args.replay_dir, args.left, args.right, args.seed,
-                              args.observation)
+                              args.observation, args.half_time)
     model = XGModel.load()
-    out: dict[str, Any] = {"match": f"{args.left} vs {args.right}, simspark 11 v 11, 2 x 300 s, "
-                                    f"seed {args.seed}, {args.observation} mode"}
-    for label, path in (("plain", plain), ("extras", with_extras)):
+    out: dict[str, Any] = {"match": f"{args.left} vs {args.right}, simspark 11 v 11, 2 x "
+                                    f"{args.half_time:g} s, seed {args.seed}, "
+                                    f"{args.observation} mode"}
+    runs = [("plain", plain), ("extras", with_extras)]
+    if args.tile > 1:
+        runs.append((f"extras x{args.tile}", tiled(with_extras, args.tile, args.replay_dir /
+                                                     f"tiled-{args.tile}-{with_extras.name}")))
+    for label, path in runs:
         load_s, replay = best_of(args.repeats, lambda p=path: load_replay(p))
         events_s, events = best_of(args.repeats, lambda r=replay: match_events(r))
         stats_s, _ = best_of(args.repeats, lambda r=replay, e=events: match_stats(r, model, e))
         total_s, stats = best_of(args.repeats, lambda p=path: match_stats(load_replay(p), model))
-        out[label] = {"cycles": len(replay) - 1, "size_mb": path.stat().st_size / 1e6,
+        size_mb = path.stat().st_size / 1e6
+        out[label] = {"cycles": len(replay) - 1, "size_mb": size_mb,
+                      "size_mb_per_30000_cycles": size_mb * 30000 / max(len(replay) - 1, 1),
                       "load_s": load_s, "events_s": events_s, "stats_s": stats_s,
                       "load_events_stats_s": total_s}
-        print(f"{label:6s}: {len(replay) - 1} cycles, {path.stat().st_size / 1e6:.2f} MB; "
+        print(f"{label:6s}: {len(replay) - 1} cycles, {size_mb:.2f} MB "
+              f"({size_mb * 30000 / max(len(replay) - 1, 1):.2f} MB per 30,000 cycles); "
               f"load {load_s:.3f} s, events {events_s:.3f} s, stats {stats_s:.3f} s; "
               f"load + events + stats {total_s:.3f} s (best of {args.repeats})")
     figures_s, _ = best_of(1, lambda: match_figures(replay, events, stats))
