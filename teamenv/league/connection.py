@@ -5,7 +5,7 @@ from __future__ import annotations
 import socket
 
 from .errors import ProtocolError, ServerDiedError
-from .framing import encode_frame, read_frame
+from .framing import MAX_FRAME_BYTES, encode_frame, read_frame
 
 #: a read that waits longer than this means the server hangs (in sync mode it answers every
 #: agent within one step; a 7 v 7 step on a loaded 2-core machine takes well under a second)
@@ -15,8 +15,10 @@ READ_TIMEOUT_S = 30.0
 class Connection:
     """A framed TCP connection; ``who`` names it in errors (e.g. ``"agent left_3"``)."""
 
-    def __init__(self, host: str, port: int, who: str, timeout_s: float = READ_TIMEOUT_S) -> None:
+    def __init__(self, host: str, port: int, who: str, timeout_s: float | None = READ_TIMEOUT_S,
+                 max_frame_bytes: int = MAX_FRAME_BYTES) -> None:
         self.who = who
+        self.max_frame_bytes = max_frame_bytes
         try:
             self._sock = socket.create_connection((host, port), timeout=timeout_s)
         except OSError as exc:
@@ -34,10 +36,18 @@ class Connection:
         except UnicodeEncodeError as exc:
             raise ProtocolError(f"{self.who}: message is not ASCII: {text[:80]!r}") from exc
 
+    def receive_bytes(self) -> bytes:
+        """Read one message's raw payload (blocks up to the timeout)."""
+        try:
+            return read_frame(self._sock, self.who, self.max_frame_bytes)
+        except TimeoutError as exc:
+            raise ServerDiedError(f"{self.who}: no message from the server in "
+                                  f"{self._sock.gettimeout():.0f} s (hung?)") from exc
+
     def receive(self) -> str:
         """Read one message (blocks up to the timeout)."""
         try:
-            payload = read_frame(self._sock, self.who)
+            payload = read_frame(self._sock, self.who, self.max_frame_bytes)
         except TimeoutError as exc:
             raise ServerDiedError(f"{self.who}: no message from the server in "
                                   f"{self._sock.gettimeout():.0f} s (hung?)") from exc

@@ -8,9 +8,11 @@ import struct
 from .errors import ProtocolError, ServerDiedError
 
 PREFIX = struct.Struct(">I")
-#: the largest frame accepted from the server (a 7 v 7 perception is ~3 kB; a length above
+#: the largest agent frame accepted from the server (a perception is ~2 kB; a length above
 #: this means the stream is out of step, not a big message)
 MAX_FRAME_BYTES = 1 << 20
+#: the monitor's full scene-graph messages after a player joins are several MB
+MAX_MONITOR_FRAME_BYTES = 1 << 28
 
 
 def encode_frame(payload: bytes) -> bytes:
@@ -39,14 +41,15 @@ def _recv_exact(sock: socket.socket, n: int, who: str, what: str) -> bytes:
     return bytes(buf)
 
 
-def read_frame(sock: socket.socket, who: str = "agent") -> bytes:
+def read_frame(sock: socket.socket, who: str = "agent",
+               max_bytes: int = MAX_FRAME_BYTES) -> bytes:
     """Read one frame's payload; ``who`` names the reader in errors.
 
     Raises ServerDiedError when the connection closes between frames, ProtocolError when it
     closes inside a frame or the length is absurd."""
     (length,) = PREFIX.unpack(_recv_exact(sock, PREFIX.size, who, "length prefix"))
-    if length > MAX_FRAME_BYTES:
-        raise ProtocolError(f"{who}: frame length {length} exceeds {MAX_FRAME_BYTES} bytes")
+    if length > max_bytes:
+        raise ProtocolError(f"{who}: frame length {length} exceeds {max_bytes} bytes")
     return _recv_exact(sock, length, who, "payload")
 
 

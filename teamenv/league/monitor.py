@@ -10,6 +10,7 @@ import threading
 
 from .connection import Connection
 from .errors import LeagueError, ProtocolError, ServerDiedError
+from .framing import MAX_MONITOR_FRAME_BYTES
 
 #: the kick-off sides the server's ``kickOff`` command understands
 KICK_OFF_SIDES = ("Left", "Right")
@@ -20,7 +21,9 @@ class MonitorConnection:
     state messages received (the first means the simulation has stepped)."""
 
     def __init__(self, host: str, port: int) -> None:
-        self._conn = Connection(host, port, "monitor")
+        # no read timeout: the server sends nothing while it waits for slow agents
+        self._conn = Connection(host, port, "monitor", timeout_s=None,
+                                max_frame_bytes=MAX_MONITOR_FRAME_BYTES)
         self._cond = threading.Condition()
         self.frames = 0
         self.error: Exception | None = None
@@ -30,7 +33,7 @@ class MonitorConnection:
     def _drain(self) -> None:
         while True:
             try:
-                self._conn.receive()
+                self._conn.receive_bytes()
             except (ServerDiedError, ProtocolError, OSError) as exc:
                 with self._cond:
                     if not self._conn.closed:

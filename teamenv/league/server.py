@@ -155,6 +155,9 @@ class LeagueServer:
         """Raise ServerDiedError (with the end of its log) if the server has exited."""
         if self._process is None:
             raise ServerDiedError("league server: not started")
+        if self.monitor is not None and self.monitor.error is not None:
+            # a monitor that stopped reading stalls the server: report why it stopped
+            raise ServerDiedError(f"league server: monitor connection failed: {self.monitor.error}")
         code = self._process.poll()
         if code is not None:
             raise ServerDiedError(
