@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import importlib
+import json
 import subprocess
 import sys
 from pathlib import Path
@@ -15,10 +16,10 @@ pytestmark = pytest.mark.rl
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 
-def run_example(script: str, out: Path, *extra: str) -> str:
-    """Runs ``examples/<script> --smoke --out <out>``; returns its stdout (fails with its output)."""
-    done = subprocess.run([sys.executable, str(EXAMPLES / script), "--smoke", "--out", str(out),
-                           *extra], capture_output=True, text=True, timeout=300)
+def run_example(script: str, *args: str) -> str:
+    """Runs ``examples/<script> --smoke <args>``; returns its stdout (fails with its output)."""
+    done = subprocess.run([sys.executable, str(EXAMPLES / script), "--smoke", *args],
+                          capture_output=True, text=True, timeout=540)
     assert done.returncode == 0, f"{script} failed:\n{done.stdout}\n{done.stderr}"
     return done.stdout
 
@@ -45,7 +46,7 @@ def test_sb3_supersuit_ppo_trains_and_saves_a_loadable_model(tmp_path):
     pytest.importorskip("stable_baselines3", reason="needs the rl extra: pip install 'teamenv[rl]'")
     from stable_baselines3 import PPO
 
-    stdout = run_example("sb3_supersuit_ppo.py", tmp_path)
+    stdout = run_example("sb3_supersuit_ppo.py", "--out", str(tmp_path))
     assert "mean episode return" in stdout
     rows = curve_rows(tmp_path / "returns.csv")
     assert int(rows[-1]["agent_steps"]) == 512
@@ -60,7 +61,7 @@ def test_sb3_supersuit_ppo_trains_and_saves_a_loadable_model(tmp_path):
 
 def test_cleanrl_ppo_trains_and_saves_its_weights(tmp_path):
     torch = pytest.importorskip("torch", reason="needs the rl extra: pip install 'teamenv[rl]'")
-    stdout = run_example("cleanrl_ppo.py", tmp_path)
+    stdout = run_example("cleanrl_ppo.py", "--out", str(tmp_path))
     assert "mean episode return" in stdout
     rows = curve_rows(tmp_path / "returns.csv")
     assert int(rows[-1]["agent_steps"]) == 2 * 64 * 2  # two rollouts of 64 steps, 2 learners
@@ -71,7 +72,8 @@ def test_cleanrl_ppo_trains_and_saves_its_weights(tmp_path):
 
 def test_rllib_multiagent_trains_one_policy_per_team(tmp_path):
     pytest.importorskip("ray.rllib", reason="needs the rl extra: pip install 'teamenv[rl]'")
-    stdout = run_example("rllib_multiagent.py", tmp_path, "--policies", "per-team")
+    stdout = run_example("rllib_multiagent.py", "--out", str(tmp_path), "--policies",
+                         "per-team")
     assert stdout.count("iteration ") >= 2
     rows = curve_rows(tmp_path / "returns.csv")
     assert len(rows) == 2
@@ -87,3 +89,22 @@ def test_rllib_policy_mapping_shares_or_splits_by_team():
     assert {policy_mapping("shared")(a, None) for a in agents} == {"shared"}
     assert [policy_mapping("per-team")(a, None) for a in agents] == [
         "left_team", "left_team", "right_team", "right_team"]
+
+
+def test_train_scenario_policy_exports_a_policy_the_policy_team_plays(tmp_path):
+    pytest.importorskip("stable_baselines3", reason="needs the rl extra: pip install 'teamenv[rl]'")
+    from teamenv.policy_team import load_policy
+
+    paths = {name: tmp_path / name for name in ("policy.npz", "report.json", "curve.png")}
+    stdout = run_example("train_scenario_policy.py", "--policy", str(paths["policy.npz"]),
+                         "--report", str(paths["report.json"]), "--plot", str(paths["curve.png"]))
+    assert "learned" in stdout and "chaser" in stdout
+    report = json.loads(paths["report.json"].read_text())
+    for result in (report["learned"], *report["baselines"].values()):
+        assert result["episodes"] == 2 and sum(result["ends"].values()) == 2
+        low, high = result["win_rate_95ci_wilson"]
+        assert 0.0 <= low <= result["win_rate"] <= high <= 1.0
+    assert report["evaluation_seeds"][0] >= 100_000  # held-out seeds, never trained on
+    policy = load_policy(paths["policy.npz"])
+    assert policy(np.zeros((3, policy.observation_size), np.float32)).shape == (3, 9)
+    assert paths["curve.png"].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
