@@ -135,7 +135,7 @@ def test_agent2d_ball_samples_beyond_the_lines_are_accepted():
 @pytest.mark.parametrize(
     ("mutate", "message"),
     [
-        (lambda t: t.replace("DelaunayTriangulation", "Static"), "method 'Static' is not supported"),
+        (lambda t: t.replace("DelaunayTriangulation", "KNN"), "method 'KNN' is not supported"),
         (lambda t: t.replace("Begin Roles", "Begin Rolls"), "expected 'Begin Roles'"),
         (lambda t: t.replace("\n7 DefensiveHalf 6", "\n8 DefensiveHalf 6"), "uniform number 7"),
         (lambda t: t.replace("----- 3 -----", "----- 4 -----"), r"expected '----- 3 -----'"),

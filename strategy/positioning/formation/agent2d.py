@@ -14,12 +14,21 @@ Three on-disk forms are read, detected from the text:
   ``unum x y``. The oldest form (``Formation DelaunayTriangulation`` with no version, a role line
   of ``name pair`` pairs, then one line of 24 numbers per sample) is read too.
 
+Two methods are read: ``DelaunayTriangulation`` (positions interpolated between ball samples)
+and ``Static`` (one set of positions, whatever the ball does: agent2d uses it for
+``before-kick-off.conf`` and the other set-up formations). A static formation is read in each
+form: JSON with ``"method": "Static"`` and one ``data`` entry; CSV ``Method,Static`` with
+``RoleNumber``/``RoleName`` rows and one ``Position,1X,1Y,...,11X,11Y`` row; legacy
+``Formation Static`` followed by 11 rows ``unum name x y``. It becomes a ``Formation`` with a
+single sample (ball at the centre spot), which holds its home positions for every ball.
+
 agent2d works on a 105 x 68 m pitch (rcssserver) with its own team attacking +x, like our team
 frame, but its y axis points to the *right* of the attacking direction (rcssserver's screen
 axes): the importer negates y by default (``flip_y=True``) so agent2d's "left" roles (pair -1,
 negative y) stay on the left in our right-handed frame. Coordinates are then scaled from
-105 x 68 m to the target pitch (x by the length ratio, y by the width ratio). Only the
-``DelaunayTriangulation`` method is supported. Roles without a type (v1, v2) get one from the
+105 x 68 m to the target pitch (x by the length ratio, y by the width ratio). Other methods
+(agent2d's older ``CDT``, ``KNN``, ...) are refused with an error naming the method. Roles
+without a type (v1, v2) get one from the
 uniform number (1 is the goalie) and the name (``*Back``/``Sweeper`` DF, ``*Forward``/``*Wing``/
 ``Striker`` FW, otherwise MF).
 """
@@ -41,7 +50,12 @@ AGENT2D_PITCH_M: tuple[float, float] = (105.0, 68.0)
 """Length and width (metres) of the pitch agent2d formation files are written for."""
 
 AGENT2D_METHOD = "DelaunayTriangulation"
+AGENT2D_STATIC_METHOD = "Static"
+AGENT2D_METHODS: tuple[str, ...] = (AGENT2D_METHOD, AGENT2D_STATIC_METHOD)
+"""The agent2d formation methods ``import_agent2d`` reads."""
 _N = 11
+# A static formation's positions do not depend on the ball; its one sample puts the ball here.
+_STATIC_BALL = [0.0, 0.0]
 
 
 def import_agent2d(
@@ -53,6 +67,10 @@ def import_agent2d(
     name: str | None = None,
 ) -> Formation:
     """Read an agent2d/HELIOS formation (file path, or the file's text) as a ``Formation``.
+
+    A ``DelaunayTriangulation`` file gives a formation whose home positions follow the ball; a
+    ``Static`` one (e.g. agent2d's ``before-kick-off.conf``) a single-sample formation whose
+    home positions are the same for every ball.
 
     Args:
         source: a path to a ``.conf``/``.json`` formation file, or its text.
@@ -149,11 +167,13 @@ def _float(token: str, where: str, src: str) -> float:
     return v
 
 
-def _check_method(method: Any, src: str) -> None:
-    if method != AGENT2D_METHOD:
+def _check_method(method: Any, src: str) -> str:
+    if method not in AGENT2D_METHODS:
         raise FormationError(
-            f"{src}: method {method!r} is not supported; only {AGENT2D_METHOD!r} can be imported"
+            f"{src}: method {method!r} is not supported; only {' and '.join(map(repr, AGENT2D_METHODS))} "
+            f"can be imported"
         )
+    return method
 
 
 def _infer_type(index: int, name: str) -> str:
@@ -185,7 +205,7 @@ def _parse_json(text: str, src: str) -> _Parsed:
     for key in ("method", "role", "data"):
         if key not in doc:
             raise FormationError(f"{src}: missing key {key!r}")
-    _check_method(doc["method"], src)
+    method = _check_method(doc["method"], src)
     role_list = doc["role"]
     if not isinstance(role_list, list):
         raise FormationError(f"{src}: role must be a list, got {role_list!r}")
@@ -205,11 +225,17 @@ def _parse_json(text: str, src: str) -> _Parsed:
     data = doc["data"]
     if not isinstance(data, list) or not data:
         raise FormationError(f"{src}: data must be a non-empty list")
+    if method == AGENT2D_STATIC_METHOD and len(data) != 1:
+        raise FormationError(
+            f"{src}: a {AGENT2D_STATIC_METHOD!r} formation has one set of positions, but data has "
+            f"{len(data)} entries"
+        )
     ball, players = [], []
     for i, d in enumerate(data):
         if not isinstance(d, dict):
             raise FormationError(f"{src}: data[{i}] must be an object, got {d!r}")
-        ball.append(_json_xy(d, "ball", i, src))
+        ball.append(_STATIC_BALL if method == AGENT2D_STATIC_METHOD and "ball" not in d
+                    else _json_xy(d, "ball", i, src))
         players.append([_json_xy(d, str(u), i, src) for u in range(1, _N + 1)])
     return names, types, ball, players
 
@@ -234,6 +260,9 @@ _CSV_IGNORED = {"Marker", "SetplayMarker"}
 def _parse_csv(text: str, src: str) -> _Parsed:
     rows: dict[str, list[str]] = {}
     lines = [(n + 1, ln) for n, ln in enumerate(text.splitlines()) if not _is_comment(ln)]
+    method = _check_method(lines[0][1].split(",", 1)[1].strip(), src)
+    if method == AGENT2D_STATIC_METHOD:
+        return _parse_csv_static(lines, src)
     k = 0
     while k < len(lines):
         lineno, line = lines[k]
@@ -249,21 +278,7 @@ def _parse_csv(text: str, src: str) -> _Parsed:
         k += 1
     else:
         raise FormationError(f"{src}: no 'SampleData' line")
-    _check_method(rows.get("Method", [None])[0], src)
-    for key in ("RoleNumber", "RoleName"):
-        if key not in rows:
-            raise FormationError(f"{src}: missing row {key!r}")
-    numbers = rows["RoleNumber"]
-    if numbers != [str(u) for u in range(1, _N + 1)]:
-        raise FormationError(f"{src}: RoleNumber must be 1..11 in order, got {numbers!r}")
-    names = rows["RoleName"]
-    if len(names) != _N:
-        raise FormationError(f"{src}: RoleName has {len(names)} names, expected 11")
-    types: list[str | None] = [None] * _N
-    if "RoleType" in rows:
-        if len(rows["RoleType"]) != _N:
-            raise FormationError(f"{src}: RoleType has {len(rows['RoleType'])} types, expected 11")
-        types = [_check_type(t, f"RoleType[{i}]", src) for i, t in enumerate(rows["RoleType"])]
+    names, types = _csv_roles(rows, src)
     size: int | None = None
     if k < len(lines) and lines[k][1].replace(" ", "").startswith("Size,"):
         lineno, line = lines[k]
@@ -293,6 +308,53 @@ def _parse_csv(text: str, src: str) -> _Parsed:
     return names, types, ball, players
 
 
+def _csv_roles(rows: dict[str, list[str]], src: str) -> tuple[list[str], list[str | None]]:
+    """Role names and types (None where the file gives none) from the CSV role rows."""
+    for key in ("RoleNumber", "RoleName"):
+        if key not in rows:
+            raise FormationError(f"{src}: missing row {key!r}")
+    numbers = rows["RoleNumber"]
+    if numbers != [str(u) for u in range(1, _N + 1)]:
+        raise FormationError(f"{src}: RoleNumber must be 1..11 in order, got {numbers!r}")
+    names = rows["RoleName"]
+    if len(names) != _N:
+        raise FormationError(f"{src}: RoleName has {len(names)} names, expected 11")
+    types: list[str | None] = [None] * _N
+    if "RoleType" in rows:
+        if len(rows["RoleType"]) != _N:
+            raise FormationError(f"{src}: RoleType has {len(rows['RoleType'])} types, expected 11")
+        types = [_check_type(t, f"RoleType[{i}]", src) for i, t in enumerate(rows["RoleType"])]
+    return names, types
+
+
+def _parse_csv_static(lines: list[tuple[int, str]], src: str) -> _Parsed:
+    """``Method,Static``: role rows and one ``Position,1X,1Y,...,11X,11Y`` row."""
+    rows: dict[str, list[str]] = {}
+    position_line = 0
+    for lineno, line in lines[1:]:
+        cells = [c.strip() for c in line.split(",")]
+        key = cells[0]
+        if key not in ("RoleNumber", "RoleName", "RoleType", "SymmetryNumber", "Position") \
+                and key not in _CSV_IGNORED:
+            raise FormationError(f"{src}: line {lineno}: unknown row {key!r} in a Static formation")
+        if key in rows:
+            raise FormationError(f"{src}: line {lineno}: a second {key!r} row")
+        rows[key] = cells[1:]
+        if key == "Position":
+            position_line = lineno
+    names, types = _csv_roles(rows, src)
+    if "Position" not in rows:
+        raise FormationError(f"{src}: no 'Position' row (a Static formation's 11 x, y pairs)")
+    values = rows["Position"]
+    if len(values) != 2 * _N:
+        raise FormationError(
+            f"{src}: line {position_line}: the Position row has {len(values)} values, expected "
+            f"{2 * _N} (11 players x, y)"
+        )
+    xy = [_float(v, f"line {position_line}", src) for v in values]
+    return names, types, [list(_STATIC_BALL)], [[xy[2 * j: 2 * j + 2] for j in range(_N)]]
+
+
 # ---------------------------------------------------------------------------------- legacy
 def _parse_legacy(text: str, src: str) -> _Parsed:
     lines = [(n + 1, ln.strip()) for n, ln in enumerate(text.splitlines()) if not _is_comment(ln)]
@@ -300,7 +362,10 @@ def _parse_legacy(text: str, src: str) -> _Parsed:
     m = re.fullmatch(r"Formation\s+(\S+)(?:\s+(\d+))?", header)
     if not m:
         raise FormationError(f"{src}: line {lineno}: illegal header {header!r}")
-    _check_method(m.group(1), src)
+    if _check_method(m.group(1), src) == AGENT2D_STATIC_METHOD:
+        if m.group(2):
+            raise FormationError(f"{src}: line {lineno}: 'Formation Static' takes no version")
+        return _parse_legacy_static(lines[1:], src)
     version = int(m.group(2)) if m.group(2) else 1
     if version == 1:
         return _parse_legacy_v1(lines[1:], src)
@@ -361,6 +426,26 @@ def _parse_legacy(text: str, src: str) -> _Parsed:
             ps.append([_float(t, f"line {lineno}", src) for t in tok[1:]])
         players.append(ps)
     return names, types, ball, players
+
+
+def _parse_legacy_static(lines: list[tuple[int, str]], src: str) -> _Parsed:
+    """``Formation Static`` then 11 rows ``unum name x y`` (uniform numbers 1..11 in order)."""
+    rows = [(n, ln) for n, ln in lines if ln != "End"]
+    if len(rows) != _N:
+        raise FormationError(
+            f"{src}: a 'Formation Static' file needs 11 rows 'unum name x y', got {len(rows)}"
+        )
+    names: list[str] = []
+    positions: list[list[float]] = []
+    for unum, (lineno, line) in enumerate(rows, start=1):
+        tok = line.split()
+        if len(tok) != 4 or tok[0] != str(unum):
+            raise FormationError(
+                f"{src}: line {lineno}: expected '{unum} name x y', got {line!r}"
+            )
+        names.append(tok[1])
+        positions.append([_float(v, f"line {lineno}", src) for v in tok[2:]])
+    return names, [None] * _N, [list(_STATIC_BALL)], [positions]
 
 
 def _parse_legacy_v1(lines: list[tuple[int, str]], src: str) -> _Parsed:
