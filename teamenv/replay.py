@@ -18,9 +18,13 @@ Format 2 adds to format 1 (which still loads; its new fields are None):
 
 Extras (``ReplayRecorder(env, extras=True)``; empty otherwise): what each agent believed, from
 the optional team hook ``annotations()`` (see ``ANNOTATION_KEYS``), in the world frame:
-``belief_pose`` (T, 2N, 3) float16 x, y, heading (NaN: not given), ``belief_ball`` (T, 2N, 2)
-float16, ``role`` (T, 2N) int8 (the agent's own role index, -1: not given) and ``role_vector``
-(T, 2N, N) int8 (the team's role assignment as the agent holds it, -1: not given).
+``belief_pose`` (T, 2N, 3) x, y, heading (NaN: not given), ``belief_ball`` (T, 2N, 2),
+``role`` (T, 2N) int8 (the agent's own role index, -1: not given) and ``role_vector``
+(T, 2N, N) int8 (the team's role assignment as the agent holds it, -1: not given). The file
+keeps the beliefs as float16 errors from the true pose and ball (``belief_pose_error``,
+``belief_ball_error``): small numbers keep float16's finer steps and compress well (in state
+mode they are 0); ``load_replay`` adds the truth back. Row t holds what each agent believed
+when it acted on the observation of row t (in step t + 1); the last row is unknown.
 """
 
 from __future__ import annotations
@@ -47,7 +51,8 @@ ANNOTATION_KEYS = ("pose", "ball", "role", "role_vector")
 _FORMAT_2_ARRAYS = ("attack_sign", "fallen", "kick_cycle", "kick_player", "kick_distance",
                     "kick_direction", "touch_cycle", "touch_player", "goal_cycle", "goal_team",
                     "goal_player", "say_bytes", "say_drops", "heard_from")
-_EXTRA_ARRAYS = ("belief_pose", "belief_ball", "role", "role_vector")
+_EXTRA_ARRAYS = ("belief_pose", "belief_ball", "belief_pose_error", "belief_ball_error", "role",
+                 "role_vector")
 
 
 @dataclass(frozen=True)
@@ -154,8 +159,10 @@ class ReplayRecorder:
                     self._goals.append((row, int(event.team), player))
             if report.delivery is not None:
                 self._talk.append((row, *self._messages(report.delivery)))
-        if self.extras:
-            self._annotate(ref.attack_sign)
+        if self.extras and row > 0:
+            # what the teams acted on in this step: their beliefs about the previous row
+            previous = float(self._sign[row - 1])
+            self._annotate([previous, -previous])
 
     def _messages(self, delivery: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(say_bytes, say_drops, heard_from) of one delivery, each (2N,)."""
@@ -179,12 +186,18 @@ class ReplayRecorder:
             np.add.at(drops, drop_speaker, 1)
         return said, drops, heard
 
-    def _annotate(self, attack_sign: list[float]) -> None:
+    def _annotate_unknown(self) -> tuple[np.ndarray, ...]:
         n, size = self.n, self.env.team_size
-        pose = np.full((n, 3), np.nan, np.float32)
-        ball = np.full((n, 2), np.nan, np.float32)
-        role = np.full(n, -1, np.int8)
-        vector = np.full((n, size), -1, np.int8)
+        rows = (np.full((n, 3), np.nan, np.float32), np.full((n, 2), np.nan, np.float32),
+                np.full(n, -1, np.int8), np.full((n, size), -1, np.int8))
+        for store, values in zip((self._pose, self._belief_ball, self._role, self._role_vector),
+                                 rows, strict=True):
+            store.append(values)
+        return rows
+
+    def _annotate(self, attack_sign: list[float]) -> None:
+        size = self.env.team_size
+        pose, ball, role, vector = self._annotate_unknown()
         for side_index, side in enumerate(("left", "right")):
             team = getattr(self.env, "teams", {}).get(side)
             hook = getattr(team, "annotations", None)
@@ -194,10 +207,6 @@ class ReplayRecorder:
             for agent, values in (hook() or {}).items():
                 i = _player_index(agent, side, size)
                 _fill_annotation(values, i, sign, pose, ball, role, vector, agent)
-        self._pose.append(pose)
-        self._belief_ball.append(ball)
-        self._role.append(role)
-        self._role_vector.append(vector)
 
     def arrays(self) -> dict[str, np.ndarray]:
         """Everything recorded so far, as the arrays a replay file holds (no metadata)."""
@@ -226,11 +235,17 @@ class ReplayRecorder:
             "goal_player": goals[:, 2].astype(np.int16),
             "say_bytes": say_bytes, "say_drops": say_drops, "heard_from": heard_from,
         }
-        if self.extras:
-            out["belief_pose"] = np.stack(self._pose).astype(np.float16)
-            out["belief_ball"] = np.stack(self._belief_ball).astype(np.float16)
+        if self.extras and t:
+            self._annotate_unknown()  # the last row: nobody acted on it
+            error = np.stack(self._pose) - out["players"]
+            error[..., 2] = np.remainder(error[..., 2] + np.pi, 2.0 * np.pi) - np.pi
+            out["belief_pose_error"] = error.astype(np.float16)
+            out["belief_ball_error"] = (np.stack(self._belief_ball)
+                                        - out["ball"][:, None, :2]).astype(np.float16)
             out["role"] = np.stack(self._role)
             out["role_vector"] = np.stack(self._role_vector)
+            for rows in (self._pose, self._belief_ball, self._role, self._role_vector):
+                rows.pop()  # recording may go on
         return out
 
     def save(self, path: str | Path, metadata: dict[str, Any]) -> Path:
@@ -322,6 +337,13 @@ def load_replay(path: str | Path) -> Replay:
         raise ConfigError(f"replay {name!r}: not a readable teamenv replay file "
                           f"({type(exc).__name__}: {exc})") from exc
     _check_shapes(name, arrays)
+    if "belief_pose_error" in arrays:  # beliefs stored as errors from the truth
+        pose = arrays["players"].astype(np.float32) + arrays.pop("belief_pose_error")
+        pose[..., 2] = np.remainder(pose[..., 2] + np.pi, 2.0 * np.pi) - np.pi
+        arrays["belief_pose"] = pose
+    if "belief_ball_error" in arrays:
+        arrays["belief_ball"] = (arrays["ball"][:, None, :2].astype(np.float32)
+                                 + arrays.pop("belief_ball_error"))
     known = {f.name for f in fields(Replay)}
     return Replay(metadata=meta, **{k: v for k, v in arrays.items() if k in known})
 
@@ -334,7 +356,8 @@ def _check_shapes(name: str, arrays: dict[str, np.ndarray]) -> None:
         raise ConfigError(f"replay {name!r}: players has shape {players.shape}, "
                           "expected (cycles, 2 x team size, 3)")
     per_cycle = ("ball", "players", "play_mode", "score", "attack_sign", "fallen", "say_bytes",
-                 "say_drops", "heard_from", "belief_pose", "belief_ball", "role", "role_vector")
+                 "say_drops", "heard_from", "belief_pose", "belief_ball", "belief_pose_error",
+                 "belief_ball_error", "role", "role_vector")
     for key in per_cycle:
         if key in arrays and len(arrays[key]) != t:
             raise ConfigError(f"replay {name!r}: {key} has {len(arrays[key])} rows but time_s "

@@ -7,6 +7,7 @@ import importlib.util
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import teamenv
@@ -50,3 +51,24 @@ def test_replay_statistics_equal_the_live_count(tmp_path, seed):
             assert team.kick_outcomes[outcome] == live[f"kicks_{outcome}"], outcome
         assert team.third_pct["middle"] == pytest.approx(live["ball_in_middle_third_pct"])
     assert stats.possession_changes == counter.possession_changes
+
+
+def test_extras_record_the_full_teams_beliefs_and_roles(tmp_path):
+    from teamenv.match import play_match
+
+    path = tmp_path / "x.npz"
+    play_match("full", "chaser", 5, {"field": "mj7v7", "team_size": 3, "half_time_s": 2.0},
+               replay_path=path, replay_extras=True)
+    replay = load_replay(path)
+    assert replay.has_extras
+    left = slice(0, 3)
+    # state mode: each full agent believes the truth (stored as float16 errors from it)
+    poses = replay.belief_pose[:-1, left]  # row t: the belief acted on in step t + 1
+    assert abs(poses[..., :2] - replay.players[:-1, left, :2]).max() < 0.05
+    assert abs(replay.belief_ball[:-1, left] - replay.ball[:-1, None, :2]).max() < 0.05
+    assert (replay.role_vector[:-1, left] >= 0).all() and (replay.role[:-1, left] >= 0).all()
+    assert (replay.role[-1] == -1).all()  # nobody acted on the last row
+    # the chaser has no annotations() hook: unknown
+    assert (replay.role[:, 3:] == -1).all() and np.isnan(replay.belief_pose[:, 3:]).all()
+    stats = match_stats(replay)
+    assert stats.left.role_agreement_pct == 100.0 and stats.right.role_agreement_pct is None
