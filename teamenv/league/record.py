@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 from . import effectors
+from .connection import Connection
 from .server import LeagueServer
 from .team_client import TeamClient, join_teams
 
@@ -26,8 +27,10 @@ def record(out_dir: Path, cycles: int = 30) -> dict[str, str]:
         raw: dict[str, str] = {}
         # keep the raw text: wrap the connections' receive
         for team in (alpha, beta):
-            team.connect()
-            for unum, conn in team._conns.items():
+            for unum in team.unums:
+                conn = team._conns[unum] = Connection("127.0.0.1", server.agent_port,
+                                                      team.who(unum))
+                conn.send(effectors.init(team.team, unum))
                 key = f"{team.team}_{unum}"
                 orig = conn.receive
 

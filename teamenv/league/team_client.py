@@ -52,13 +52,6 @@ class TeamClient:
         return f"agent {self.team}_{unum}"
 
     # -- lifecycle ---------------------------------------------------------------------------
-    def connect(self) -> None:
-        """Open every agent's connection and send its ``init``."""
-        for u in self.unums:
-            conn = Connection(self._host, self._port, self.who(u), self.timeout_s)
-            self._conns[u] = conn
-            conn.send(self._inits[u])
-
     def join(self) -> dict[int, Perception]:
         """Wait until every agent has had a perception (answering each with ``(syn)``)."""
         join_teams([self])
@@ -100,31 +93,34 @@ class TeamClient:
 
 
 def join_teams(clients: Sequence[TeamClient]) -> None:
-    """Connect every team's agents and wait until all are active, answering each perception
-    with ``(syn)`` as it comes (teams sharing a server must join together: an agent already
-    active that is not answered while another team joins is dropped after 5 s)."""
-    for c in clients:
-        if not c._conns:
-            c.connect()
-    pending = {(i, u) for i, c in enumerate(clients) for u in c.unums}
+    """Connect every team's agents, one at a time, and wait until all are active, answering
+    each perception with ``(syn)`` as it comes.
+
+    Teams sharing a server join together (an active agent that is not answered while another
+    team joins is dropped after 5 s). One agent at a time, because the server (rcsssmj 0.2.1)
+    sometimes hangs when two players are added in the same cycle."""
+    order = [(i, u) for i, c in enumerate(clients) for u in c.unums]
     timeout_s = max(c.timeout_s for c in clients)
-    deadline = time.monotonic() + timeout_s
     with selectors.DefaultSelector() as sel:
-        for i, c in enumerate(clients):
-            for u, conn in c._conns.items():
-                sel.register(conn, selectors.EVENT_READ, (i, u))
-        while pending:
-            ready = sel.select(timeout=0.5)
-            if not ready:
-                for c in clients:
-                    c._check_alive()
-                if time.monotonic() > deadline:
-                    names = sorted(clients[i].who(u) for i, u in pending)
-                    raise ServerDiedError(f"{names} got no perception in {timeout_s:.0f} s "
-                                          "after init")
-            for key, _ in ready:
-                i, u = key.data
-                c = clients[i]
-                c.last[u] = c._read(u)
-                c._conns[u].send(effectors.SYN)
-                pending.discard((i, u))
+        for i, u in order:
+            c = clients[i]
+            conn = c._conns.get(u)
+            if conn is None:
+                conn = Connection(c._host, c._port, c.who(u), c.timeout_s)
+                c._conns[u] = conn
+                conn.send(c._inits[u])
+            sel.register(conn, selectors.EVENT_READ, (i, u))
+            deadline = time.monotonic() + timeout_s
+            while u not in c.last:
+                ready = sel.select(timeout=0.5)
+                if not ready:
+                    for other in clients:
+                        other._check_alive()
+                    if time.monotonic() > deadline:
+                        raise ServerDiedError(f"{c.who(u)} got no perception in "
+                                              f"{timeout_s:.0f} s after init")
+                for key, _ in ready:
+                    ki, ku = key.data
+                    kc = clients[ki]
+                    kc.last[ku] = kc._read(ku)
+                    kc._conns[ku].send(effectors.SYN)

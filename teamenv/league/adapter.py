@@ -1,0 +1,145 @@
+"""Between the league server and our teams: perceptions -> team-frame vision sightings in the
+env's ``vision`` vocabulary, and walk/kick/beam/say requests -> effectors.
+
+Observations: the server's marks are renamed to the landmark names of
+``teamenv.landmarks.landmarks(field, "mj")`` in the **team frame** (each side attacks +x; for
+the right team the world is turned by pi, so its ``l_rlf`` is its ``corner_own_left``); marks
+our table lacks (goal-area and penalty-area junctions) are counted in ``dropped_marks``.
+Sightings keep the server's polar form (distance m, azimuth and elevation rad), which is what
+the env's vision mode reports; players are seen by their ``head`` part.
+
+Requests: ``walk`` (vx, vy m/s, turn rad/s, body frame) goes through a LocomotionController
+to motor effectors; ``beam`` (x, y, theta rad, team frame, own half) is sent as is (the server
+mirrors the right team); ``say`` is a text of the ``mj`` channel profile (padded base64 of at
+most 10 bytes, exactly what our teams produce with ``channel="mj"``), checked by that profile
+and sent as its bytes. **Kicks:** the T1 under our walker has no kick motion; a kick request
+is turned into a walk through the ball (towards it at the walk's top speed, along the kick
+direction), which is how the ball is played on the server.
+"""
+
+from __future__ import annotations
+
+import base64
+import math
+from dataclasses import dataclass, field
+
+from comms.profiles import get_profile
+
+from . import effectors
+from .controller import LocomotionController
+from .errors import LeagueError
+from .perception import Perception, Polar
+
+#: server mark -> our landmark name, for the left team (team frame = world frame)
+LEFT_MARKS: dict[str, str] = {
+    "l_luf": "corner_own_left", "l_llf": "corner_own_right",
+    "l_ruf": "corner_their_left", "l_rlf": "corner_their_right",
+    "t_cuf": "halfway_left", "t_clf": "halfway_right",
+    "x_cuc": "circle_left", "x_clc": "circle_right",
+    "p_lpm": "penalty_own", "p_rpm": "penalty_their",
+    "g_lup": "post_own_left", "g_llp": "post_own_right",
+    "g_rup": "post_their_left", "g_rlp": "post_their_right",
+}
+
+
+def _turned(mark: str) -> str:
+    """The mark at the world point turned by pi: left<->right, upper<->lower."""
+    kind, where = mark.split("_", 1)
+    swap = {"l": "r", "r": "l", "u": "l"}
+    if kind in ("l", "g"):            # l_<side><u/l>f, g_<side><u/l>p
+        return f"{kind}_{swap[where[0]]}{'l' if where[1] == 'u' else 'u'}{where[2:]}"
+    if kind in ("t", "x"):            # t_c<u/l>f, x_c<u/l>c
+        return f"{kind}_c{'l' if where[1] == 'u' else 'u'}{where[2:]}"
+    return f"p_{swap[where[0]]}{where[1:]}"  # p_<side>pm
+
+
+#: the same for the right team
+RIGHT_MARKS: dict[str, str] = {_turned(m): name for m, name in LEFT_MARKS.items()}
+
+
+@dataclass
+class LeagueObservation:
+    """One agent's view in our vocabulary (team frame, radians)."""
+
+    time: float
+    play_mode: str
+    own_score: int
+    their_score: int
+    vision_update: bool
+    landmarks: dict[str, Polar] = field(default_factory=dict)
+    ball: Polar | None = None
+    teammates: dict[int, Polar] = field(default_factory=dict)
+    opponents: dict[int, Polar] = field(default_factory=dict)
+    heard_text: list[tuple[float, str]] = field(default_factory=list)
+    dropped_marks: int = 0
+
+
+def observe(p: Perception, team: str, side: str) -> LeagueObservation:
+    """``p`` as seen by a player of ``team`` playing on ``side`` ("left"/"right")."""
+    if side not in ("left", "right"):
+        raise LeagueError(f"side must be 'left' or 'right', not {side!r}")
+    if p.game is None or p.time is None:
+        raise LeagueError(f"team {team}: perception without time/GS")
+    marks = LEFT_MARKS if side == "left" else RIGHT_MARKS
+    own, their = ((p.game.score_left, p.game.score_right) if side == "left"
+                  else (p.game.score_right, p.game.score_left))
+    obs = LeagueObservation(p.game.time, p.game.play_mode, own, their, p.vision is not None)
+    if p.vision is not None:
+        for name, polar in p.vision.objects.items():
+            if name == "B":
+                obs.ball = polar
+            elif name in marks:
+                obs.landmarks[marks[name]] = polar
+            else:
+                obs.dropped_marks += 1
+        for seen in p.vision.players:
+            head = seen.parts.get("head")
+            if head is not None:
+                (obs.teammates if seen.team == team else obs.opponents)[seen.unum] = head
+    for heard in p.heard or ():
+        obs.heard_text.append((heard.azimuth, base64.b64encode(heard.payload).decode("ascii")))
+    return obs
+
+
+@dataclass(frozen=True)
+class Request:
+    """What a player asks for this cycle: walk (vx m/s, vy m/s, turn rad/s), an optional kick
+    (power 0-1, direction rad, body frame), beam (x m, y m, theta rad), and a say text."""
+
+    walk: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    kick: tuple[float, float] | None = None
+    beam: tuple[float, float, float] | None = None
+    say: str | None = None
+
+
+#: walk speed used to walk through the ball for a kick (m/s; the walker's envelope is ~0.5)
+KICK_WALK_SPEED = 0.4
+
+
+class RequestEncoder:
+    """Requests -> one cycle's effector message for one agent, through its controller."""
+
+    def __init__(self, controller: LocomotionController, who: str, channel: str = "mj") -> None:
+        self.controller = controller
+        self.who = who
+        self.profile = get_profile(channel)
+        if not self.profile.base64_payload:
+            raise LeagueError(f"{who}: the league server needs the 'mj' channel, not {channel!r}")
+
+    def encode(self, request: Request, perception: Perception) -> str:
+        parts: list[str] = []
+        if request.beam is not None:
+            parts.append(effectors.beam(*request.beam))
+            self.controller.reset()
+        walk = request.walk
+        if request.kick is not None:
+            _, direction = request.kick
+            walk = (KICK_WALK_SPEED * math.cos(direction), 0.0, direction / 0.5)
+        if request.beam is None:
+            parts.append(self.controller.step(walk, perception))
+        if request.say:
+            reason = self.profile.check_message(request.say)
+            if reason is not None:
+                raise LeagueError(f"{self.who}: say {request.say!r} breaks the mj channel: {reason}")
+            parts.append(effectors.say(base64.b64decode(request.say, validate=True)))
+        return effectors.message(*parts)

@@ -1,0 +1,116 @@
+"""Pluggable locomotion on the league server: a controller turns a walk command into motor
+effectors each cycle, from what the robot measures (joints, torso pose and gyro).
+
+``LocomotionController`` is the interface a team may implement with its own walk (e.g. the
+league's reference walking network); ``WalkerController`` is ours: the T1 walker of
+``locomotion.humanoid.walker`` (3D-LIPM preview control + leg IK + joint PD, closed by the
+measured torso attitude and capture point), its joint targets sent as the server's PD motors.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Protocol
+
+import numpy as np
+
+from . import effectors
+from .errors import LeagueError
+from .perception import Perception
+from .t1 import T1_MOTORS, joint_sensor
+
+#: the server's cycle (s): one perception and one answer per 20 ms of game time
+CYCLE_S = 0.02
+
+
+class LocomotionController(Protocol):
+    """Walk-command -> motor effectors, once per cycle."""
+
+    def reset(self) -> None:
+        """Forget the walk (e.g. after a beam)."""
+
+    def step(self, command: tuple[float, float, float], perception: Perception) -> str:
+        """Motor effectors for this cycle under ``command`` = (vx m/s, vy m/s, turn rad/s),
+        body frame."""
+
+
+def torso_pose(perception: Perception) -> tuple[float, float, float]:
+    """World (x, y, yaw) of the torso from the ``pos``/``quat`` perceptors (m, m, rad)."""
+    try:
+        x, y, _ = perception.positions["torso_pos"]
+        w, qx, qy, qz = perception.orientations["torso_quat"]
+    except KeyError as exc:
+        raise LeagueError(f"perception has no {exc.args[0]} (needed for the torso pose)") from None
+    return x, y, math.atan2(2 * (w * qz + qx * qy), 1 - 2 * (qy * qy + qz * qz))
+
+
+class WalkerController:
+    """The project's T1 walker driving the server's motors (needs the ``humanoid`` extra).
+
+    Each cycle the measured state (torso position and orientation, gyro, every joint angle and
+    velocity) is put into the walker's observer, the walker advances one 20 ms control period
+    (``WalkParams.dt`` is set to the cycle) and every motor gets its PD target with the
+    walker's gains (``pd_gain_scale`` x the T1's), so no motor is ever left uncommanded."""
+
+    def __init__(self, params=None, feedback: bool = True) -> None:
+        self.feedback = feedback
+        from locomotion.humanoid.t1 import load_t1
+        from locomotion.humanoid.walker import LipmWalker, Observer, WalkParams, _gains
+
+        params = params or WalkParams()
+        # control periods per server cycle (the walker was tuned at 10 ms)
+        self._substeps = max(1, round(CYCLE_S / params.dt))
+        import mujoco
+
+        t1 = _gains(load_t1(), params)
+        self._t1, self._params = t1, params
+        self._walker = LipmWalker(t1, params)
+        self._observe = Observer(t1)
+        m = t1.model
+        joint_of_motor = {j: mtr for mtr, j in T1_MOTORS.items()}
+        self._motors = []
+        for i in range(m.nu):
+            jname = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, int(m.actuator_trnid[i, 0]))
+            self._motors.append(joint_of_motor[jname])
+        self._sensors = [joint_sensor(mtr) for mtr in self._motors]
+        self._last_xyz: np.ndarray | None = None
+        self._started = False
+
+    def reset(self) -> None:
+        self._started = False
+        self._last_xyz = None
+
+    def _state(self, p: Perception) -> tuple[np.ndarray, np.ndarray]:
+        t1 = self._t1
+        qpos = t1.q_stance.copy()
+        qvel = np.zeros(t1.model.nv)
+        xyz = np.asarray(p.positions["torso_pos"], dtype=float)
+        qpos[0:3] = xyz
+        qpos[3:7] = p.orientations["torso_quat"]
+        if self._last_xyz is not None:
+            qvel[0:3] = (xyz - self._last_xyz) / CYCLE_S
+        self._last_xyz = xyz
+        gyro = p.gyros.get("torso_gyro")
+        if gyro is not None:
+            qvel[3:6] = gyro
+        for k, sensor in enumerate(self._sensors):
+            js = p.joints.get(sensor)
+            if js is None:
+                raise LeagueError(f"perception has no joint {sensor!r} (T1 expected)")
+            qpos[t1.act_qadr[k]] = js.angle
+            qvel[t1.act_dadr[k]] = js.velocity
+        return qpos, qvel
+
+    def step(self, command: tuple[float, float, float], perception: Perception) -> str:
+        qpos, qvel = self._state(perception)
+        obs = self._observe(qpos, qvel)
+        if not self._started:
+            self._walker.reset(tuple(obs["pose"]))
+            self._started = True
+        for _ in range(self._substeps):
+            q_ref = self._walker.update(np.asarray(command, dtype=float),
+                                        obs if self.feedback else None)
+        kp, kd = self._t1.kp, self._t1.kd
+        return effectors.message(*(
+            effectors.motor(name, float(q_ref[k]), 0.0, float(kp[k]), float(kd[k]))
+            for k, name in enumerate(self._motors)))
