@@ -105,6 +105,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_teams(sub)
     __import__("teamenv.analytics.cli", fromlist=["add_parser"]).add_parser(sub)  # stats, report
     add_view_parser(sub)
+    __import__("teamenv.league.cli", fromlist=["add_parser"]).add_parser(sub)  # league-match
     try:
         from teamenv.tournament.cli import add_tournament_commands
     except ImportError:
