@@ -1,0 +1,47 @@
+"""``teamenv league-match A B``: one match on the league's real server (rcssservermj)."""
+
+from __future__ import annotations
+
+import argparse
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("league-match", help="play a match on the league server (rcsssmj, "
+                       "needs the humanoid extra) and record it in a tournament database")
+    p.add_argument("left", help="left side: a team spec (names the side and its database row)")
+    p.add_argument("right", help="right side")
+    p.add_argument("--team-size", type=int, default=7, help="players per side, 1-7 (default 7)")
+    p.add_argument("--seconds", type=float, default=30.0, help="game time to play (s)")
+    p.add_argument("--seed", type=int, default=0, help="seed stored with the match")
+    p.add_argument("--kick-off", default="Left", choices=("Left", "Right"))
+    p.add_argument("--db", default=None, help="SQLite results database to record the match in")
+    p.add_argument("--name", default="league", help="tournament name in --db (default league)")
+    p.add_argument("--log-dir", default=None, help="where the server's log goes (default: tmp)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.set_defaults(func=_run)
+
+
+def _run(args: argparse.Namespace) -> int:
+    from tqdm import tqdm
+
+    from .match import LeagueMatchOptions, play_league_match, record_league_match
+
+    options = LeagueMatchOptions(team_size=args.team_size, game_s=args.seconds,
+                                 kick_off=args.kick_off)
+    bar = tqdm(total=round(args.seconds, 2), unit="s game", disable=args.no_progress,
+               bar_format="{l_bar}{bar}| {n:.2f}/{total:.2f} s game [{elapsed}<{remaining}]")
+
+    def progress(t: float, score: tuple[int, int]) -> None:
+        bar.update(max(0.0, min(t, bar.total) - bar.n))
+        bar.set_postfix_str(f"{args.left} {score[0]}-{score[1]} {args.right}", refresh=False)
+
+    try:
+        result = play_league_match(args.left, args.right, options, seed=args.seed,
+                                   on_cycle=progress, log_dir=args.log_dir)
+    finally:
+        bar.close()
+    print(result.summary())
+    if args.db:
+        record_league_match(args.db, args.name, result, options)
+        print(f"recorded in {args.db} (tournament {args.name!r})")
+    return 0
