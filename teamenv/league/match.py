@@ -91,10 +91,11 @@ def play_league_match(left: str, right: str, options: LeagueMatchOptions = Leagu
         teams = [TeamClient("127.0.0.1", server.agent_port, name, range(1, n + 1),
                             check_alive=server.check_alive) for name in names]
         try:
-            join_teams(teams)
             sides = ("left", "right")
+            # controllers first: an active agent that does not answer for 5 s is dropped
             encoders = [{u: RequestEncoder(WalkerController(), t.who(u)) for u in t.unums}
                         for t in teams]
+            join_teams(teams)
             memory = [{u: {} for u in t.unums} for t in teams]
             hold = effectors.message(*(effectors.motor(m, 0.0, 0.0, 50.0, 1.0) for m in T1_MOTORS))
             # beam everyone home (holding every motor), then kick off
