@@ -12,7 +12,9 @@ continuous actions drawn before timing, at each batch size of ``--vmas-batches``
 the batch size with the most agent-steps/s. VMAS steps all envs of a batch at once in torch.
 
 Every configuration is timed ``--repeats`` times, interleaved (the machine may be shared); the
-best and the median rates are kept. Writes ``benchmarks/results/vector_speed.json``.
+best and the median rates are kept. For the configurations that run in this process (serial
+teamenv, VMAS) it also reports agent-steps per CPU-second of this process (the median), a rate
+that other load on a shared machine does not change much. Writes ``benchmarks/results/vector_speed.json``.
 
 Usage: python benchmarks/vector_speed.py [--team-sizes 5 11] [--envs 1 2 4] [--seconds 3]
                                          [--vmas-batches 1 8 32 128 512 2048] [--repeats 3]
@@ -25,6 +27,7 @@ import json
 import os
 import platform
 import statistics
+import sys
 import time
 from pathlib import Path
 
@@ -46,6 +49,7 @@ class TeamenvVector:
                                    action_format="box", max_cycles=max_cycles)
         self.agents_per_env = len(env.possible_agents)
         self.n_envs = n_envs
+        self.in_process = workers == 0
         self.vec = supersuit.concat_vec_envs_v1(supersuit.pettingzoo_env_to_vec_env_v1(env),
                                                 n_envs, num_cpus=workers)
         self.vec.reset(seed=seed)
@@ -75,6 +79,7 @@ class VmasFootball:
         self.env.reset()
         self.agents_per_env = len(self.env.agents)
         self.n_envs = batch
+        self.in_process = True
         generator = torch.Generator().manual_seed(seed)
         self.actions = [
             [torch.rand((batch, self.env.get_agent_action_size(agent)), generator=generator)
@@ -105,11 +110,13 @@ def measure(configs: dict[str, object], seconds: float, repeats: int) -> dict[st
     """Times every configuration ``repeats`` times, round-robin; rates per configuration."""
     steps = {name: calibrate(runner, seconds) for name, runner in configs.items()}
     rates: dict[str, list[float]] = {name: [] for name in configs}
+    cpu_rates: dict[str, list[float]] = {name: [] for name in configs}
     for _ in range(repeats):
         for name, runner in configs.items():
-            start = time.perf_counter()
+            start, cpu_start = time.perf_counter(), time.process_time()
             runner.run(steps[name])
             rates[name].append(steps[name] / (time.perf_counter() - start))
+            cpu_rates[name].append(steps[name] / max(time.process_time() - cpu_start, 1e-9))
     results = {}
     for name, runner in configs.items():
         best, median = max(rates[name]), statistics.median(rates[name])
@@ -122,13 +129,17 @@ def measure(configs: dict[str, object], seconds: float, repeats: int) -> dict[st
             "env_steps_per_s_median": median * env_steps,
             "agent_steps_per_s_median": median * env_steps * runner.agents_per_env,
         }
+        if runner.in_process:  # CPU time of this process is all the work: a load-free rate
+            results[name]["agent_steps_per_cpu_s"] = (
+                statistics.median(cpu_rates[name]) * env_steps * runner.agents_per_env)
     return results
 
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--team-sizes", type=int, nargs="+", default=[5, 11])
-    parser.add_argument("--envs", type=int, nargs="+", default=[1, 2, 4])
+    parser.add_argument("--envs", type=int, nargs="*", default=[1, 2, 4],
+                        help="vector sizes, each in as many worker processes (none: skip)")
     parser.add_argument("--max-cycles", type=int, default=1000)
     parser.add_argument("--vmas-batches", type=int, nargs="+",
                         default=[1, 8, 32, 128, 512, 2048])
@@ -141,7 +152,7 @@ def main(argv: list[str] | None = None) -> None:
 
     load_before = os.getloadavg()
     report: dict = {
-        "command": "python benchmarks/vector_speed.py " + " ".join(argv or []),
+        "command": "python benchmarks/vector_speed.py " + " ".join(sys.argv[1:] if argv is None else argv),
         "machine": {"cpus": os.cpu_count(), "platform": platform.platform(),
                     "python": platform.python_version(), "torch": torch.__version__,
                     "torch_threads": torch.get_num_threads(),
@@ -171,10 +182,12 @@ def main(argv: list[str] | None = None) -> None:
                 ours_best["agent_steps_per_s"] / vmas_best["agent_steps_per_s"])}
         print(f"\n{team_size} v {team_size} ({2 * team_size} agents per env)")
         print(f"{'configuration':40s} {'env steps/s':>12s} {'agent-steps/s':>14s} "
-              f"{'(median)':>12s}")
+              f"{'(median)':>12s} {'per CPU-s':>12s}")
         for name, r in results.items():
+            per_cpu = r.get("agent_steps_per_cpu_s")
             print(f"{name:40s} {r['env_steps_per_s']:12.0f} {r['agent_steps_per_s']:14.0f} "
-                  f"{r['agent_steps_per_s_median']:12.0f}")
+                  f"{r['agent_steps_per_s_median']:12.0f} "
+                  f"{'' if per_cpu is None else f'{per_cpu:12.0f}'}")
     report["machine"]["load_average_1_5_15_after"] = os.getloadavg()
     args.json.parent.mkdir(parents=True, exist_ok=True)
     args.json.write_text(json.dumps(report, indent=2) + "\n")

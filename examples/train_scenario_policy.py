@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 import time
 from collections import deque
 from pathlib import Path
@@ -238,7 +239,7 @@ def main(argv: list[str] | None = None) -> None:
                                          {"policy": RandomActions(args.seed)}, seeds)}
     total_wall_s = time.perf_counter() - start
     report = {
-        "command": "python examples/train_scenario_policy.py " + " ".join(argv or []),
+        "command": "python examples/train_scenario_policy.py " + " ".join(sys.argv[1:] if argv is None else argv),
         "scenario": args.scenario, "reward": reward, "total_timesteps": args.total_timesteps,
         "max_train_minutes": args.max_train_minutes, "trained_timesteps": model.num_timesteps,
         "training_episodes": len(curve.episodes),
