@@ -1,0 +1,73 @@
+"""benchmarks/fidelity_ranking.py on synthetic tournaments with known rankings."""
+
+from __future__ import annotations
+
+import importlib.util
+import math
+import sys
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+_PATH = Path(__file__).resolve().parents[2] / "benchmarks" / "fidelity_ranking.py"
+_spec = importlib.util.spec_from_file_location("fidelity_ranking", _PATH)
+fr = importlib.util.module_from_spec(_spec)
+sys.modules["fidelity_ranking"] = fr   # dataclasses look their module up there
+_spec.loader.exec_module(fr)
+
+
+def _round_robin(strength: dict[str, float], rounds: int, rng: np.random.Generator, noise=0.0):
+    """Matches where the stronger team wins (ties when equal), flipped with prob. ``noise``."""
+    teams = sorted(strength)
+    out = []
+    for _ in range(rounds):
+        for i, a in enumerate(teams):
+            for b in teams[i + 1:]:
+                d = np.sign(strength[a] - strength[b])
+                if rng.random() < noise:
+                    d = -d
+                la, rb = (1, 0) if d > 0 else (0, 1) if d < 0 else (0, 0)
+                out.append(SimpleNamespace(left_team=a, right_team=b, left_official=la,
+                                           right_official=rb))
+    return out
+
+
+STRENGTH = {"full": 4.0, "full_b": 3.0, "chaser": 2.0, "static": 1.0}
+
+
+def test_points_per_match():
+    recs = _round_robin({"a": 2, "b": 1, "c": 1}, 1, np.random.default_rng(0))
+    assert fr.points_per_match(recs) == {"a": 3.0, "b": 0.5, "c": 0.5}
+
+
+def test_identical_and_reversed_rankings():
+    assert fr.rank_agreement({"a": 3, "b": 2, "c": 1}, {"a": 9, "b": 5, "c": 0}) == (1.0, 1.0)
+    rho, tau = fr.rank_agreement({"a": 3, "b": 2, "c": 1}, {"a": 0, "b": 5, "c": 9})
+    assert rho == pytest.approx(-1.0) and tau == pytest.approx(-1.0)
+    assert all(math.isnan(x) for x in fr.rank_agreement({"a": 1, "b": 1}, {"a": 1, "b": 2}))
+
+
+def test_bootstrap_agreement_same_world_is_high_and_reversed_is_low():
+    rng = np.random.default_rng(1)
+    a = _round_robin(STRENGTH, 6, rng, noise=0.1)
+    b = _round_robin(STRENGTH, 6, rng, noise=0.1)
+    rev = _round_robin({t: -s for t, s in STRENGTH.items()}, 6, rng, noise=0.1)
+    same = fr.bootstrap_agreement(a, b, 150, np.random.default_rng(2))
+    flipped = fr.bootstrap_agreement(a, rev, 150, np.random.default_rng(2))
+    assert same.rho > 0.8 and same.rho_ci[0] <= same.rho <= same.rho_ci[1] and same.rho_ci[1] <= 1
+    assert flipped.rho < -0.8 and flipped.tau_ci[1] < 0
+    assert same.teams == 4 and same.usable > 120
+
+
+def test_bootstrap_is_seeded_and_checks_input():
+    rng = np.random.default_rng(3)
+    a, b = _round_robin(STRENGTH, 3, rng, 0.2), _round_robin(STRENGTH, 3, rng, 0.2)
+    one = fr.bootstrap_agreement(a, b, 100, np.random.default_rng(7))
+    two = fr.bootstrap_agreement(a, b, 100, np.random.default_rng(7))
+    assert one == two
+    with pytest.raises(ValueError, match="n_boot"):
+        fr.bootstrap_agreement(a, b, 0, np.random.default_rng(0))
+    with pytest.raises(ValueError, match="at least one match"):
+        fr.bootstrap_agreement([], b, 10, np.random.default_rng(0))
