@@ -11,7 +11,6 @@ import sys
 from pathlib import Path
 
 from . import effectors
-from .connection import Connection
 from .server import LeagueServer
 from .team_client import TeamClient, join_teams
 
@@ -25,20 +24,9 @@ def record(out_dir: Path, cycles: int = 30) -> dict[str, str]:
         beta = TeamClient("127.0.0.1", server.agent_port, "Beta", (1,),
                           check_alive=server.check_alive)
         raw: dict[str, str] = {}
-        # keep the raw text: wrap the connections' receive
         for team in (alpha, beta):
-            for unum in team.unums:
-                conn = team._conns[unum] = Connection("127.0.0.1", server.agent_port,
-                                                      team.who(unum))
-                conn.send(effectors.init(team.team, unum))
-                key = f"{team.team}_{unum}"
-                orig = conn.receive
-
-                def receive(orig=orig, key=key) -> str:
-                    raw[key] = orig()
-                    return raw[key]
-
-                conn.receive = receive  # type: ignore[method-assign]
+            team.on_message = lambda unum, text, name=team.team: raw.__setitem__(
+                f"{name}_{unum}", text)
         try:
             join_teams([alpha, beta])
             saved.setdefault("first.txt", raw["Alpha_1"])

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import selectors
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 from . import effectors
 from .connection import READ_TIMEOUT_S, Connection
@@ -47,6 +47,8 @@ class TeamClient:
         self._host, self._port = host, port
         self.last: dict[int, Perception] = {}
         self.cycles = 0
+        #: called with (unum, raw message) for every message received (recording, debugging)
+        self.on_message: Callable[[int, str], None] | None = None
 
     def who(self, unum: int) -> str:
         return f"agent {self.team}_{unum}"
@@ -63,6 +65,8 @@ class TeamClient:
         except ServerDiedError:
             self._check_alive()
             raise
+        if self.on_message is not None:
+            self.on_message(unum, text)
         return parse_perception(text, strict=self.strict, who=self.who(unum))
 
     def perceive(self) -> dict[int, Perception]:
