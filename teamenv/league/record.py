@@ -2,7 +2,7 @@
 
 Starts a server, joins two agents of team ``Alpha`` and one of ``Beta``, beams them, has
 Alpha 1 say ``hello``, sends a motor command, kicks off, and writes one message of each
-interesting kind (first perception, with vision, with a heard message, after kick-off) to DIR.
+interesting kind (an early one with vision, one with players and the ball, with a heard message, after kick-off) to DIR.
 """
 
 from __future__ import annotations
@@ -29,9 +29,10 @@ def record(out_dir: Path, cycles: int = 30) -> dict[str, str]:
                 f"{name}_{unum}", text)
         try:
             join_teams([alpha, beta])
-            saved.setdefault("first.txt", raw["Alpha_1"])
             for cycle in range(cycles):
                 pa, pb = alpha.perceive(), beta.perceive()
+                if "first.txt" not in saved and pa[1].vision is not None:
+                    saved["first.txt"] = raw["Alpha_1"]     # before kick-off, with vision
                 if "vision_players_ball.txt" not in saved and pb[1].vision is not None \
                         and pb[1].vision.players and pb[1].vision.ball is not None:
                     saved["vision_players_ball.txt"] = raw["Beta_1"]
