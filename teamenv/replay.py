@@ -21,9 +21,10 @@ the optional team hook ``annotations()`` (see ``ANNOTATION_KEYS``), in the world
 ``belief_pose`` (T, 2N, 3) x, y, heading (NaN: not given), ``belief_ball`` (T, 2N, 2),
 ``role`` (T, 2N) int8 (the agent's own role index, -1: not given) and ``role_vector``
 (T, 2N, N) int8 (the team's role assignment as the agent holds it, -1: not given). The file
-keeps the beliefs as float16 errors from the true pose and ball (``belief_pose_error``,
-``belief_ball_error``): small numbers keep float16's finer steps and compress well (in state
-mode they are 0); ``load_replay`` adds the truth back. Row t holds what each agent believed
+keeps the beliefs as their errors from the true pose and ball, quantised to int16
+(``belief_pose_error``, ``belief_ball_error``: 1 cm and 1 mrad steps, -32768 = unknown): a
+state-mode belief is the truth (errors 0) and vision-mode errors are small numbers, so they
+compress well; ``load_replay`` adds the truth back. Row t holds what each agent believed
 when it acted on the observation of row t (in step t + 1); the last row is unknown.
 """
 
@@ -51,6 +52,9 @@ ANNOTATION_KEYS = ("pose", "ball", "role", "role_vector")
 _FORMAT_2_ARRAYS = ("attack_sign", "fallen", "kick_cycle", "kick_player", "kick_distance",
                     "kick_direction", "touch_cycle", "touch_player", "goal_cycle", "goal_team",
                     "goal_player", "say_bytes", "say_drops", "heard_from")
+#: belief errors are stored in these steps (x, y metres; heading radians), as int16
+POSE_ERROR_STEPS = (0.01, 0.01, 0.001)
+UNKNOWN_Q = -32768
 _EXTRA_ARRAYS = ("belief_pose", "belief_ball", "belief_pose_error", "belief_ball_error", "role",
                  "role_vector")
 
@@ -239,9 +243,9 @@ class ReplayRecorder:
             self._annotate_unknown()  # the last row: nobody acted on it
             error = np.stack(self._pose) - out["players"]
             error[..., 2] = np.remainder(error[..., 2] + np.pi, 2.0 * np.pi) - np.pi
-            out["belief_pose_error"] = error.astype(np.float16)
-            out["belief_ball_error"] = (np.stack(self._belief_ball)
-                                        - out["ball"][:, None, :2]).astype(np.float16)
+            out["belief_pose_error"] = _quantise(error, POSE_ERROR_STEPS)
+            out["belief_ball_error"] = _quantise(np.stack(self._belief_ball)
+                                                 - out["ball"][:, None, :2], POSE_ERROR_STEPS[:2])
             out["role"] = np.stack(self._role)
             out["role_vector"] = np.stack(self._role_vector)
             for rows in (self._pose, self._belief_ball, self._role, self._role_vector):
@@ -261,6 +265,19 @@ class ReplayRecorder:
             np.savez_compressed(fh, **self.arrays(),
                                 metadata=np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8))
         return path
+
+
+def _quantise(error: np.ndarray, steps: tuple[float, ...]) -> np.ndarray:
+    """Errors in whole ``steps`` (one per last-axis column) as int16; NaN -> UNKNOWN_Q."""
+    q = np.round(error / np.asarray(steps, dtype=np.float64))
+    q = np.clip(np.nan_to_num(q, nan=UNKNOWN_Q), UNKNOWN_Q, 32767)
+    return q.astype(np.int16)
+
+
+def _unquantise(q: np.ndarray, steps: tuple[float, ...]) -> np.ndarray:
+    out = q.astype(np.float32) * np.asarray(steps, dtype=np.float32)
+    out[q == UNKNOWN_Q] = np.nan
+    return out
 
 
 def _player_index(agent: Any, side: str, team_size: int) -> int:
@@ -338,12 +355,13 @@ def load_replay(path: str | Path) -> Replay:
                           f"({type(exc).__name__}: {exc})") from exc
     _check_shapes(name, arrays)
     if "belief_pose_error" in arrays:  # beliefs stored as errors from the truth
-        pose = arrays["players"].astype(np.float32) + arrays.pop("belief_pose_error")
+        error = _unquantise(arrays.pop("belief_pose_error"), POSE_ERROR_STEPS)
+        pose = arrays["players"].astype(np.float32) + error
         pose[..., 2] = np.remainder(pose[..., 2] + np.pi, 2.0 * np.pi) - np.pi
         arrays["belief_pose"] = pose
     if "belief_ball_error" in arrays:
-        arrays["belief_ball"] = (arrays["ball"][:, None, :2].astype(np.float32)
-                                 + arrays.pop("belief_ball_error"))
+        error = _unquantise(arrays.pop("belief_ball_error"), POSE_ERROR_STEPS[:2])
+        arrays["belief_ball"] = arrays["ball"][:, None, :2].astype(np.float32) + error
     known = {f.name for f in fields(Replay)}
     return Replay(metadata=meta, **{k: v for k, v in arrays.items() if k in known})
 
