@@ -77,6 +77,8 @@ SYBIL = Sybil(parsers=[PythonCodeBlockParser(), file_blocks, bash_blocks, SkipPa
 )
 def test_page_runs_as_written(page: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.chdir(tmp_path)
+    for name in ("no_proxy", "NO_PROXY"):  # the viewer page talks to its own local server
+        monkeypatch.setenv(name, "127.0.0.1,localhost")
     monkeypatch.syspath_prepend(str(tmp_path))  # `my_team:MyTeam` as the page's reader names it
     document = SYBIL.parse(page)
     examples = list(document)
