@@ -74,11 +74,13 @@ class WalkerController:
             self._motors.append(joint_of_motor[jname])
         self._sensors = [joint_sensor(mtr) for mtr in self._motors]
         self._last_xyz: np.ndarray | None = None
+        self._last_q: np.ndarray | None = None
         self._started = False
 
     def reset(self) -> None:
         self._started = False
         self._last_xyz = None
+        self._last_q = None
 
     def _state(self, p: Perception) -> tuple[np.ndarray, np.ndarray]:
         t1 = self._t1
@@ -111,6 +113,10 @@ class WalkerController:
             q_ref = self._walker.update(np.asarray(command, dtype=float),
                                         obs if self.feedback else None)
         kp, kd = self._t1.kp, self._t1.kd
+        # the server holds a target for the whole 20 ms cycle: give the PD the target's
+        # velocity too, so the damping term does not fight the planned motion
+        dq = np.zeros_like(q_ref) if self._last_q is None else (q_ref - self._last_q) / CYCLE_S
+        self._last_q = q_ref.copy()
         return effectors.message(*(
-            effectors.motor(name, float(q_ref[k]), 0.0, float(kp[k]), float(kd[k]))
+            effectors.motor(name, float(q_ref[k]), float(dq[k]), float(kp[k]), float(kd[k]))
             for k, name in enumerate(self._motors)))
