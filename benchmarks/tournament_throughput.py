@@ -42,6 +42,9 @@ from teamenv.teams import registered_teams
 from teamenv.tournament import ResultStore, round_robin, run_tournament, validate_specs
 from teamenv.tournament.backends import ProcessPoolBackend, execute_task
 
+#: registered teams that cannot play without a config (the policy team loads a weights file)
+NEEDS_CONFIG = {"policy"}
+
 
 def _probe(names: tuple[str, ...]) -> int:
     """What a worker must do before its first match: import teamenv and the teams."""
@@ -137,14 +140,15 @@ def main() -> None:
     parser.add_argument("--halves", type=int, default=2)
     parser.add_argument("--games", type=int, default=1, help="seeded rounds per pairing")
     parser.add_argument("--teams", nargs="+", default=None,
-                        help="team specs (default: every registered team)")
+                        help="team specs (default: every registered team that plays without "
+                             "a config; the policy team needs a weights file)")
     parser.add_argument("--repeat", type=int, default=1, help="keep the best of N runs")
     parser.add_argument("--no-ray", action="store_true", help="skip the Ray backend")
     parser.add_argument("--writes", type=int, default=200,
                         help="matches in the database-only test (0: skip it)")
     args = parser.parse_args()
 
-    teams = args.teams or sorted(registered_teams())
+    teams = args.teams or sorted(t for t in registered_teams() if t not in NEEDS_CONFIG)
     options = MatchOptions(team_size=args.team_size, half_time_s=args.half_time,
                            halves=args.halves)
     t = round_robin("bench", teams, games_per_pairing=args.games, options=options)
