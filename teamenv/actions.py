@@ -9,18 +9,23 @@ that agent's ``infos["dropped"]`` and a warning is issued.
 from __future__ import annotations
 
 import math
+import numbers
 import warnings
-from typing import Any, Mapping
+from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 
-from teamenv.errors import ActionError, MessageError
+from teamenv.errors import ActionError, MessageError, value_repr
 from teamenv.field import FieldSpec
 from teamenv.sim.simulation import Commands
 
 DICT_KEYS = ("walk", "kick", "beam", "beam_request", "say")
 _FAST_KEYS = frozenset({"walk", "kick", "say"})
 _DICT = {dict}
+_STR = {str}
+_SILENCE_OR_STR = frozenset({str, type(None)})
+_REAL_KINDS = frozenset("biuf")  # numpy dtype kinds of real numbers: bool, int, uint, float
 BOX_SIZE = 9
 
 
@@ -56,7 +61,7 @@ class ActionParser:
         if self.action_format == "box":
             self._fill_box(cmd, rows, agents, actions, dropped)
         elif not self._fill_dict_fast(cmd, rows, actions):
-            for row, agent, action in zip(rows, agents, actions):
+            for row, agent, action in zip(rows, agents, actions, strict=True):
                 self._fill_dict(cmd, row, agent, action, dropped)
 
     def _fill_dict_fast(self, cmd: Commands, rows: list[int], actions: list[Any]) -> bool:
@@ -77,14 +82,16 @@ class ActionParser:
         except KeyError:
             texts = None
         if texts is not None:
+            # Only str (or None) texts stay on this path: truth-testing anything else may
+            # raise (a numpy array's truth value is ambiguous) or mean something else.
             if not texts:  # no "say" key
                 says = []
-            elif all(texts):
+            elif (kinds := set(map(type, texts))) == _STR and all(texts):  # every agent talks
                 says = list(zip(rows, texts, strict=True))
-            else:
-                if any(not _silence(text) for text in texts if not text):
-                    return False  # a falsy non-str (0, b"", []): the per-agent path rejects it
+            elif kinds <= _SILENCE_OR_STR:
                 says = [(row, text) for row, text in zip(rows, texts, strict=True) if text]
+            else:
+                return False  # the per-agent path names the fault (or takes a str subclass)
         else:
             walk_rows, walks, kick_rows, kicks, says = [], [], [], [], []
             fast_keys = _FAST_KEYS
@@ -98,14 +105,16 @@ class ActionParser:
                     kick_rows.append(row)
                     kicks.append(action["kick"])
                 text = action.get("say")
-                if text:
-                    says.append((row, text))
-                elif not _silence(text):
-                    return False  # a falsy non-str: the per-agent path rejects it
-        try:
-            walk = np.asarray(walks, dtype=float).reshape(len(walks), 3)
-            kick = np.asarray(kicks, dtype=float).reshape(len(kicks), 2)
-        except (TypeError, ValueError):
+                if type(text) is str:
+                    if text:
+                        says.append((row, text))
+                elif text is not None:
+                    return False  # not a str: the per-agent path names the fault
+        # Real numbers of the exact shape only (numpy would parse text, drop an imaginary
+        # part or reshape (3, 1)); the per-agent path names any fault.
+        walk = _real_rows(walks, 3)
+        kick = _real_rows(kicks, 2)
+        if walk is None or kick is None:
             return False
         # In range (with the 1e-6 tolerance) also means finite: NaN fails both comparisons.
         if walks and not ((walk >= self._walk_lo) & (walk <= self._walk_hi)).all():
@@ -133,23 +142,24 @@ class ActionParser:
     # -- flat Box --------------------------------------------------------------------------
     def _fill_box(self, cmd: Commands, rows: list[int], agents: list[str], actions: list[Any],
                   dropped: dict[str, list[str]]) -> None:
-        try:
-            arr = np.asarray(actions, dtype=float)
-        except (TypeError, ValueError):
-            arr = None
-        if arr is None or arr.shape != (len(agents), BOX_SIZE):
+        arr = _real_rows(actions, BOX_SIZE)
+        if arr is None:
             arr = np.zeros((len(agents), BOX_SIZE))
-            for k, (agent, action) in enumerate(zip(agents, actions)):
+            for k, (agent, action) in enumerate(zip(agents, actions, strict=True)):
                 arr[k] = self._box_row(agent, action, dropped)
+        else:
+            arr = arr.astype(float)  # a copy in float64, the dtype of every result below
         bad = ~np.isfinite(arr)
         if bad.any():
-            k, j = np.argwhere(bad)[0]
-            self._problem(agents[k], f"action[{j}]", arr[k, j], "must be finite", dropped)
+            for k, j in np.argwhere(bad):  # each bad entry of each agent (strict: the first)
+                self._problem(agents[k], f"action[{j}]", float(arr[k, j]), "must be finite",
+                              dropped)
             arr[bad] = 0.0
         out = (arr < -1.0 - 1e-6) | (arr > 1.0 + 1e-6)
         if out.any():
-            k, j = np.argwhere(out)[0]
-            self._problem(agents[k], f"action[{j}]", arr[k, j], "must be in [-1, 1]", dropped)
+            for k, j in np.argwhere(out):
+                self._problem(agents[k], f"action[{j}]", float(arr[k, j]),
+                              "must be in [-1, 1]; clipped in lenient mode", dropped)
             arr = np.clip(arr, -1.0, 1.0)
         idx = np.asarray(rows)
         vx = np.where(arr[:, 0] >= 0, arr[:, 0] * self.walk_high[0], -arr[:, 0] * self.walk_low[0])
@@ -164,14 +174,9 @@ class ActionParser:
         cmd.beam[idx, 2] = arr[:, 8] * math.pi
 
     def _box_row(self, agent: str, action: Any, dropped: dict[str, list[str]]) -> np.ndarray:
-        try:
-            row = np.asarray(action, dtype=float)
-        except (TypeError, ValueError):
-            row = None
-        if row is None or row.shape != (BOX_SIZE,):
-            shape = getattr(row, "shape", None)
-            self._problem(agent, "action", action if row is None else f"shape {shape}",
-                          f"must be a float array of shape ({BOX_SIZE},)", dropped)
+        row, why = real_numbers(action, BOX_SIZE)
+        if row is None:
+            self._problem(agent, "action", action, f"{why} (the flat Box action)", dropped)
             return np.zeros(BOX_SIZE)
         return row
 
@@ -184,7 +189,7 @@ class ActionParser:
             return
         for key in action:
             if key not in DICT_KEYS:
-                self._problem(agent, repr(key), action[key],
+                self._problem(agent, value_repr(key), action[key],
                               f"unknown action key; known keys are {DICT_KEYS}", dropped)
         if "walk" in action:
             value = self._vector(agent, "walk", action["walk"], 3, self.walk_low, self.walk_high,
@@ -210,10 +215,13 @@ class ActionParser:
                 self._problem(agent, "beam_request", flag, "must be 0 or 1", dropped)
         if "say" in action:
             text = action["say"]
-            if text is None or text == "":
+            if text is None:
                 return
-            if not isinstance(text, str):
-                self._problem(agent, "say", text, "must be a str", dropped, MessageError)
+            if not isinstance(text, str):  # tested first: `text == ""` on an array is an array
+                self._problem(agent, "say", text, "must be a str (None or \"\" is silence)", dropped,
+                              MessageError)
+                return
+            if not text:
                 return
             reason = self.channel.check_message(text)
             if reason is not None:
@@ -225,28 +233,24 @@ class ActionParser:
 
     def _vector(self, agent: str, name: str, value: Any, size: int, low: np.ndarray,
                 high: np.ndarray, dropped: dict[str, list[str]]) -> np.ndarray | None:
-        try:
-            arr = np.asarray(value, dtype=float)
-        except (TypeError, ValueError):
-            self._problem(agent, name, value, f"must be {size} numbers", dropped)
-            return None
-        if arr.shape != (size,):
-            self._problem(agent, name, value, f"must have shape ({size},), got {arr.shape}",
-                          dropped)
+        arr, why = real_numbers(value, size)
+        if arr is None:
+            self._problem(agent, name, value, why, dropped)
             return None
         if not np.isfinite(arr).all():
             self._problem(agent, name, value, "must be finite (no NaN/inf)", dropped)
             return None
         if ((arr < low - 1e-6) | (arr > high + 1e-6)).any():
             self._problem(agent, name, value,
-                          f"out of range [{_fmt(low)}, {_fmt(high)}]; clipped in lenient mode",
+                          f"out of range (low [{_fmt(low)}], high [{_fmt(high)}]); clipped in "
+                          "lenient mode",
                           dropped)
             return np.clip(arr, low, high)
         return arr
 
     def _problem(self, agent: str, field: str, value: Any, why: str,
                  dropped: dict[str, list[str]], error: type[ActionError] = ActionError) -> None:
-        message = f"agent {agent!r}: {field} = {_short(value)}: {why}"
+        message = f"agent {agent!r}: {field} = {value_repr(value)}: {why}"
         if self.strict:
             raise error(message)
         dropped.setdefault(agent, []).append(message)
@@ -256,9 +260,52 @@ class ActionParser:
 _RANGES: dict[int, list[int]] = {}
 
 
-def _silence(text: Any) -> bool:
-    """A falsy ``say`` the per-agent path takes as silence (None or ""), not as bad input."""
-    return text is None or type(text) is str
+def real_numbers(value: Any, size: int) -> tuple[np.ndarray | None, str]:
+    """``value`` as a float64 array of shape ``(size,)``, or ``(None, why not)``.
+
+    Real numbers only: bool, int, float (Python or numpy), in a sequence or an array. Text,
+    bytes, complex numbers, dates and objects are refused although numpy would convert some
+    of them (``"0.5"`` -> 0.5, ``1+2j`` -> 1.0 with a warning); so are other shapes (also
+    ``(size, 1)``, which a reshape would accept)."""
+    try:
+        raw = np.asarray(value)
+    except (TypeError, ValueError, OverflowError):  # ragged nesting, unconvertible objects
+        return None, f"must be {size} real numbers"
+    kind = raw.dtype.kind
+    if kind == "O":  # Python objects: ints too large for int64, None, fractions, mixtures
+        if not all(isinstance(v, (numbers.Real, np.bool_)) for v in raw.flat):
+            return None, f"must be {size} real numbers"
+        try:
+            arr = raw.astype(float)
+        except OverflowError:
+            return None, "must be finite (no NaN/inf): a number too large for a float"
+    elif kind in _REAL_KINDS:
+        arr = raw.astype(float, copy=False)
+    else:
+        return None, f"must be {size} real numbers, not {_kind_name(raw.dtype)}"
+    if arr.shape != (size,):
+        return None, f"must have shape ({size},), got {arr.shape}"
+    return arr, ""
+
+
+def _kind_name(dtype: np.dtype) -> str:
+    names = {"c": "complex numbers", "U": "text", "S": "bytes", "M": "dates", "m": "durations"}
+    return names.get(dtype.kind, f"dtype {dtype}")
+
+
+def _real_rows(values: list[Any], size: int) -> np.ndarray | None:
+    """The fast paths' conversion: ``values`` (one entry per agent) as a ``(len, size)`` array
+    of real numbers in their own dtype (float32 stays float32), or None when anything is off;
+    the per-agent path then names the fault."""
+    if not values:
+        return np.empty((0, size))
+    try:
+        arr = np.asarray(values)
+    except (TypeError, ValueError, OverflowError):
+        return None
+    if arr.dtype.kind not in _REAL_KINDS or arr.shape != (len(values), size):
+        return None
+    return arr
 
 
 def _is_range(rows: list[int]) -> bool:
@@ -272,8 +319,3 @@ def _is_range(rows: list[int]) -> bool:
 
 def _fmt(arr: np.ndarray) -> str:
     return ", ".join(f"{v:.3g}" for v in arr)
-
-
-def _short(value: Any) -> str:
-    text = repr(value)
-    return text if len(text) <= 80 else text[:77] + "..."

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 
@@ -50,6 +51,9 @@ class TeamFault(TeamEnvError, RuntimeError):
         self.detail = detail
 
 
+_LINE_BREAK = re.compile(r"\n\s*")
+
+
 def value_repr(value: Any, limit: int = 80) -> str:
     """``repr(value)`` cut to ``limit`` characters, for error messages about the caller's input.
 
@@ -59,7 +63,8 @@ def value_repr(value: Any, limit: int = 80) -> str:
     if isinstance(value, int) and value.bit_length() > 1024:
         return f"<int of {value.bit_length()} bits>"
     try:
-        text = repr(value)
+        # On one line (a 2-D numpy array's repr breaks rows): a message is one line.
+        text = _LINE_BREAK.sub(" ", repr(value))
     except Exception:  # any failure of a foreign __repr__: name the type instead
         return f"<{type(value).__name__} object>"
     return text if len(text) <= limit else text[:limit - 3] + "..."
