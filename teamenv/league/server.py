@@ -102,13 +102,14 @@ class LeagueServer:
             cmd += ["--field", o.field]
         log_dir = self._log_dir or Path(tempfile.gettempdir())
         log_dir.mkdir(parents=True, exist_ok=True)
-        fd, name = tempfile.mkstemp(prefix=f"rcssservermj-{self.agent_port}-", suffix=".log",
-                                    dir=log_dir)
-        self.log_path = Path(name)
-        with os.fdopen(fd, "wb") as log:
+        # The server writes console.log and MuJoCo's MUJOCO_LOG.TXT into its working directory:
+        # give each server its own, beside its log, instead of the caller's checkout.
+        run_dir = Path(tempfile.mkdtemp(prefix=f"rcssservermj-{self.agent_port}-", dir=log_dir))
+        self.log_path = run_dir / "server.log"
+        with open(self.log_path, "wb") as log:
             self._process = subprocess.Popen(  # noqa: S603 - our own argv, no shell
                 cmd, stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
-                start_new_session=True, preexec_fn=_die_with_parent)
+                cwd=run_dir, start_new_session=True, preexec_fn=_die_with_parent)
         atexit.register(self.stop)
         try:
             self._wait_listening()
