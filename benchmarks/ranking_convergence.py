@@ -4,8 +4,9 @@
     python benchmarks/ranking_convergence.py --replay-dir /tmp/rank --half-time 150 \\
         --matches 40 --stop-when-separated --json benchmarks/results/ranking_convergence.json
 
-Plays ``full`` against ``chaser`` on ``mj7v7`` 7 v 7 (2 x ``--half-time`` s), evaluation
-seeds from 5000 (``--first-seed``), sides alternating (full left on even offsets), each
+Plays ``full`` against ``chaser`` on ``mj7v7`` 7 v 7 (2 x ``--half-time`` s), analysis
+seeds from 5000 (``--first-seed``; the tuning range of ``teamenv.seeds``: the question is
+about the metrics, not a strength claim), sides alternating (full left on even offsets), each
 recorded as a replay in ``--replay-dir`` (a replay already there is reused). For every match
 it computes full's margin over chaser on each ranking metric of
 ``teamenv.analytics.ranking`` (goals, xG, composite) and reports, per metric:
