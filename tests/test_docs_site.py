@@ -41,7 +41,9 @@ def test_site_builds_strict_with_every_page(site: Path) -> None:
                    for p in (ROOT / "docs").rglob("*.md"))
     assert "index" in pages and any(p.startswith("tutorials/") for p in pages)
     for page in pages:
-        html = site / ("index.html" if page == "index" else f"{page}/index.html")
+        # mkdocs builds dir/index.md into dir/index.html, any other page.md into page/index.html
+        is_index = page == "index" or page.endswith("/index")
+        html = site / (page.removesuffix("index") if is_index else page + "/") / "index.html"
         assert html.is_file(), f"docs/{page}.md was not built into {html}"
 
 

@@ -155,7 +155,7 @@ def test_no_server_left_after_ctrl_c_or_kill_of_our_process(sig):
         pid, port = map(int, child.stdout.readline().split())
         assert not _gone(pid)
         child.send_signal(sig)
-        child.wait(30)
+        child.wait(60)  # stop() may take ~20 s: 5 s monitor join, 3 s SIGINT grace, 10 s SIGKILL
         assert _wait_gone(pid, port), f"server {pid} still runs after {sig.name} to its parent"
     finally:
         if child.poll() is None:
