@@ -139,8 +139,12 @@ def test_server_death_gives_a_clear_error_and_no_process():
     assert _wait_gone(pid)
 
 
+# A process started in the background by a non-interactive shell (as CI may start pytest)
+# inherits SIGINT ignored, and Python then installs no KeyboardInterrupt handler: the child
+# restores it, as a terminal's Ctrl-C would find it.
 _CHILD = textwrap.dedent("""
-    import sys, time
+    import signal, sys, time
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     from teamenv.league.server import LeagueServer
     with LeagueServer() as server:
         print(server.pid, server.agent_port, flush=True)
