@@ -45,9 +45,10 @@ from typing import Any
 
 import numpy as np
 
+from teamenv.analytics.geometry import THIRDS, goal_line_crossing, third_index
+
 PAIRINGS = "full:chaser,chaser:chaser,full:silent"
 OUTCOMES = ("goal", "out", "blocked", "teammate", "self", "stopped", "half", "open")
-THIRDS = ("defensive", "middle", "attacking")
 #: the kicker's own contacts in the kick's first cycles are the kick itself, not a re-touch
 KICK_GRACE_CYCLES = 5
 STOPPED_SPEED = 0.05  # m/s: a ball slower than this has come to rest
@@ -148,21 +149,13 @@ class MatchCounter:
     # -- geometry ---------------------------------------------------------------------------
     def third(self, x: float, sign: float) -> str:
         """The third of the pitch at ``x`` seen by a side attacking towards ``sign``."""
-        u = x * sign
-        edge = self.half_length / 3.0
-        return "defensive" if u < -edge else ("attacking" if u > edge else "middle")
+        return THIRDS[int(third_index(x, sign, self.half_length))]
 
     def goal_line_crossing(self, start: tuple[float, float], direction: float,
                            sign: float) -> tuple[float, float] | None:
         """(distance along the direction, y) where a ball going ``direction`` from ``start``
         crosses the goal line at ``sign * half_length``; None if it moves away from it."""
-        c = math.cos(direction)
-        if c * sign <= 1e-9:
-            return None
-        t = (sign * self.half_length - start[0]) / c
-        if t < 0:
-            return None
-        return t, start[1] + t * math.sin(direction)
+        return goal_line_crossing(start, direction, sign, self.half_length)
 
     # -- the cycle --------------------------------------------------------------------------
     def add(self, cyc: Cycle) -> None:
