@@ -141,6 +141,7 @@ class PositioningAgent:
             )
         cycle = self.cycle
         self.cycle += 1
+        decoded = votes is not None
         if votes is None:
             votes = [v for v in (decode_role_vote(t, self.n, self.channel) for t in heard)
                      if v is not None]
@@ -155,7 +156,11 @@ class PositioningAgent:
                       view.opponents.tobytes(), view.opponents_present.tobytes())
         positions, own = memoized(self.memo, key, lambda: self._assign(f, view))
         ballot = own.position_of if own_ballot is None else own_ballot
-        team = self.voter.vote(ballot, cycle, validate=False) if vote else own.position_of
+        # voting on its fresh vector over role-vote texts (state mode), an agent drops the
+        # vectors heard before that vector changed (RoleVoter.vote, since_own_change)
+        fresh_only = own_ballot is None and not decoded
+        team = self.voter.vote(ballot, cycle, validate=False,
+                               since_own_change=fresh_only) if vote else own.position_of
         k = int(team[self.me])
         say = ""
         if (cycle + self.me) % self.say_every == 0:

@@ -153,11 +153,13 @@ class RoleVoter:
         self._cycle = np.full(self.n, np.iinfo(np.int64).min // 2, dtype=np.int64)
         self._last_key = b""
         self._last_result = np.arange(self.n, dtype=np.intp)
+        self._own_changed = np.iinfo(np.int64).min // 2
 
     def reset(self) -> None:
         """Forget everything heard (new episode)."""
         self._cycle[:] = np.iinfo(np.int64).min // 2
         self._last_key = b""
+        self._own_changed = np.iinfo(np.int64).min // 2
 
     def hear(self, speaker: int, vector: ArrayLike, cycle: int, validate: bool = True) -> None:
         """Record ``speaker``'s role vector, heard at ``cycle`` (it replaces an older one).
@@ -184,20 +186,34 @@ class RoleVoter:
         ok[self.me] = False
         return np.flatnonzero(ok)
 
-    def vote(self, own_vector: ArrayLike, cycle: int, validate: bool = True) -> NDArray[np.intp]:
+    def vote(self, own_vector: ArrayLike, cycle: int, validate: bool = True,
+             since_own_change: bool = False) -> NDArray[np.intp]:
         """Count ``own_vector`` and every fresh heard vector; return the team's assignment.
 
         ``validate=False`` skips checking that ``own_vector`` is a permutation (for vectors
         ``assign_roles`` just produced).
+
+        ``since_own_change=True``: a heard vector counts only if it was heard after the cycle
+        on which ``own_vector`` last changed. For an agent that votes with its fresh vector
+        (``state`` mode), a vector heard before that was computed on a situation it has
+        already seen change, so it would only hold the team in the old assignment; right
+        after a change the own vector decides alone, and teammates' vectors count again as
+        they are heard.
         """
         own = np.asarray(own_vector)
         if validate and not is_permutation(own, self.n):
             raise VotingError(
                 f"RoleVoter.vote: own vector {own.tolist()} is not a permutation of 0..{self.n - 1}"
             )
+        if not np.array_equal(self._vectors[self.me], own):
+            self._own_changed = cycle
         self._vectors[self.me] = own
         self._cycle[self.me] = cycle
-        ballots = self._vectors[cycle - self._cycle <= self.max_age_cycles]
+        counted = cycle - self._cycle <= self.max_age_cycles
+        if since_own_change:
+            counted &= self._cycle > self._own_changed
+            counted[self.me] = True
+        ballots = self._vectors[counted]
         key = ballots.tobytes()  # the same ballots as last cycle: the same result
         if key != self._last_key:
             self._last_key = key
