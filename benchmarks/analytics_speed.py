@@ -2,6 +2,7 @@
 
     python benchmarks/analytics_speed.py --replay-dir /tmp/speed            # play, then time
     python benchmarks/analytics_speed.py --replay-dir /tmp/speed --half-time 30 --tile 10
+    python benchmarks/analytics_speed.py --replay out/m.npz --cli      # time a replay you have
 
 Plays (once; a replay already in ``--replay-dir`` is reused) one match ``--left`` vs
 ``--right`` (default full vs full, both annotate) on ``simspark`` 11 v 11, 2 x
@@ -11,22 +12,31 @@ role vector), and reports both file sizes (and, for a shorter match, the size sc
 cycles). Then times (CPU seconds of the process, best of ``--repeats``): loading the replay, ``match_events`` and
 ``match_stats`` (what ``teamenv stats`` does, less printing), and the HTML report's figures.
 ``--tile K`` also times a synthetic replay made of the recorded match K times in a row (its
-events shifted), to time a full-length replay when playing one is too slow.
+events shifted), to time a full-length replay when playing one is too slow. ``--replay PATH``
+times that replay instead of playing one. ``--cli`` also times the command a user runs,
+``python -m teamenv stats PATH`` in a child process (interpreter start and imports included;
+CPU seconds of the child, best of ``--repeats``).
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import resource
+import subprocess
+import sys
 import time
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+PLAYED: dict[str, Any] = {}
+
 
 def play(replay_dir: Path, left: str, right: str, seed: int, observation: str,
          half_time: float) -> tuple[Path, Path]:
-    """The replay with and without extras (played when missing)."""
+    """The replay with and without extras (played when missing; the play's time goes to
+    ``PLAYED``)."""
     import teamenv
     from teamenv.replay import ReplayRecorder
 
@@ -40,11 +50,14 @@ def play(replay_dir: Path, left: str, right: str, seed: int, observation: str,
     recorder = ReplayRecorder(env, extras=True)
     env.reset(seed=seed)
     recorder.record()
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     while not env.episode_over:
         env.step({})
         recorder.record()
-    print(f"played {env.sim.cycle} cycles in {time.perf_counter() - start:.0f} s")
+    PLAYED.update(cycles=int(env.sim.cycle), wall_s=time.perf_counter() - start,
+                  cpu_s=time.process_time() - cpu)
+    print(f"played {env.sim.cycle} cycles in {PLAYED['wall_s']:.0f} s wall "
+          f"({PLAYED['cpu_s']:.0f} s CPU)")
     meta = {"left": left, "right": right, "seed": seed}
     recorder.save(with_extras, meta)
     recorder.extras = False  # the same match, written without the extras
@@ -93,9 +106,24 @@ def best_of(repeats: int, fn: Any, label: str = "") -> tuple[float, Any]:
     return best, out
 
 
+def cli_time(repeats: int, path: Path) -> tuple[float, float]:
+    """(least CPU seconds, least wall seconds) of ``python -m teamenv stats path`` in a child."""
+    best_cpu = best_wall = float("inf")
+    for _ in range(repeats):
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        w0 = time.perf_counter()
+        subprocess.run([sys.executable, "-m", "teamenv", "stats", str(path)], check=True,
+                       stdout=subprocess.DEVNULL)
+        wall = time.perf_counter() - w0
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+        best_cpu, best_wall = min(best_cpu, cpu), min(best_wall, wall)
+    return best_cpu, best_wall
+
+
 def main(argv: Sequence[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--replay-dir", type=Path, required=True)
+    parser.add_argument("--replay-dir", type=Path)
     parser.add_argument("--left", default="full")
     parser.add_argument("--right", default="full")
     parser.add_argument("--seed", type=int, default=5000)
@@ -103,25 +131,37 @@ def main(argv: Sequence[str] | None = None) -> None:
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--half-time", type=float, default=300.0)
     parser.add_argument("--tile", type=int, default=1, help="also time the match K times in a row")
+    parser.add_argument("--replay", type=Path, help="time this replay instead of playing one")
+    parser.add_argument("--cli", action="store_true",
+                        help="also time `python -m teamenv stats REPLAY` in a child process")
     parser.add_argument("--json", type=Path)
     args = parser.parse_args(argv)
-    args.replay_dir.mkdir(parents=True, exist_ok=True)
+    if args.replay is None and args.replay_dir is None:
+        parser.error("give --replay-dir (to play a match) or --replay (to time a replay)")
     from teamenv.analytics.events import match_events
     from teamenv.analytics.figures import match_figures
     from teamenv.analytics.stats import match_stats
     from teamenv.analytics.xg import XGModel
     from teamenv.replay import load_replay
 
-    with_extras, plain = play(args.replay_dir, args.left, args.right, args.seed,
-                              args.observation, args.half_time)
     model = XGModel.load()
-    out: dict[str, Any] = {"match": f"{args.left} vs {args.right}, simspark 11 v 11, 2 x "
-                                    f"{args.half_time:g} s, seed {args.seed}, "
-                                    f"{args.observation} mode"}
-    runs = [("plain", plain), ("extras", with_extras)]
+    if args.replay is not None:
+        out: dict[str, Any] = {"match": str(args.replay)}
+        runs = [("replay", args.replay)]
+    else:
+        args.replay_dir.mkdir(parents=True, exist_ok=True)
+        with_extras, plain = play(args.replay_dir, args.left, args.right, args.seed,
+                                  args.observation, args.half_time)
+        out = {"match": f"{args.left} vs {args.right}, simspark 11 v 11, 2 x "
+                        f"{args.half_time:g} s, seed {args.seed}, {args.observation} mode"}
+        if PLAYED:
+            out["played"] = dict(PLAYED)
+        runs = [("plain", plain), ("extras", with_extras)]
+    out["xg_model"] = model.fitted.get("data", "")
     if args.tile > 1:
-        runs.append((f"extras x{args.tile}", tiled(with_extras, args.tile, args.replay_dir /
-                                                     f"tiled-{args.tile}-{with_extras.name}")))
+        src = runs[-1][1]
+        runs.append((f"{runs[-1][0]} x{args.tile}",
+                     tiled(src, args.tile, src.with_name(f"tiled-{args.tile}-{src.name}"))))
     for label, path in runs:
         load_s, replay = best_of(args.repeats, lambda p=path: load_replay(p))
         events_s, events = best_of(args.repeats, lambda r=replay: match_events(r))
@@ -138,6 +178,10 @@ def main(argv: Sequence[str] | None = None) -> None:
               f"load {load_s:.3f} s, events {events_s:.3f} s, stats {stats_s:.3f} s; "
               f"load + events + stats {total_s:.3f} s CPU ({WALL[label]:.3f} s wall), best of "
               f"{args.repeats}")
+        if args.cli:
+            cli_cpu, cli_wall = cli_time(args.repeats, path)
+            out[label].update(cli_stats_s=cli_cpu, cli_stats_wall_s=cli_wall)
+            print(f"        python -m teamenv stats: {cli_cpu:.2f} s CPU ({cli_wall:.2f} s wall)")
     figures_s, _ = best_of(1, lambda: match_figures(replay, events, stats))
     out["figures_s"] = figures_s
     print(f"report figures: {figures_s:.2f} s")

@@ -127,9 +127,13 @@ def main(argv: Sequence[str] | None = None) -> None:
                     separated([r["margins"][m] for r in rows]) for m in RANK_METRICS):
                 print(f"every metric separated after {len(rows)} matches: stopping")
                 break
+    from teamenv.analytics.xg import XGModel
+
     rng = np.random.default_rng(0)
     report: dict[str, Any] = {"field": "mj7v7", "team_size": 7, "half_time_s": args.half_time,
-                              "first_seed": args.first_seed, "matches": rows, "metrics": {},
+                              "first_seed": args.first_seed,
+                              "xg_model": XGModel.load().fitted.get("data", ""),
+                              "matches": rows, "metrics": {},
                               "wall_s": time.perf_counter() - start}
     print(f"\nfull vs chaser, mj7v7 7 v 7, 2 x {args.half_time:g} s, {len(rows)} matches "
           f"(seeds {args.first_seed}..{args.first_seed + len(rows) - 1})")
