@@ -359,15 +359,18 @@ class SoccerParallelEnv(ParallelEnv):
 
     def _reset(self, seed: int | None):
         seed_seq = np.random.SeedSequence(seed)
-        # Children are numbered: the first three are what they were before vision existed,
-        # so state mode is unchanged; the fourth is vision's own generator.
-        env_seq, team_left_seq, team_right_seq, vision_seq = seed_seq.spawn(4)
+        # Children are numbered: the first three are what they were before vision existed;
+        # the fourth is vision's own generator, the fifth the scenario's, the sixth the say
+        # channel's (arrival order, loss): what a team says never moves the draws of physics
+        # (kicks, beams), so two teams that differ only in talk play the same match.
+        env_seq, team_left_seq, team_right_seq, vision_seq, scenario_seq, channel_seq = \
+            seed_seq.spawn(6)
         team_seqs = (team_left_seq, team_right_seq)
         self.np_random = np.random.default_rng(env_seq)
-        self.sim.reset(self.np_random, np.random.default_rng(vision_seq))
+        self.sim.reset(self.np_random, np.random.default_rng(vision_seq),
+                       np.random.default_rng(channel_seq))
         if self._scenario_run is not None:
-            # the fifth child: the four above draw what they draw without a scenario
-            self._scenario_run.start(self.sim, np.random.default_rng(seed_seq.spawn(1)[0]))
+            self._scenario_run.start(self.sim, np.random.default_rng(scenario_seq))
         self.end_reason: str | None = None
         for k, (side, team) in enumerate(self.teams.items()):
             team_seed = int(team_seqs[k].generate_state(1)[0])

@@ -118,7 +118,7 @@ class PositioningAgent:
              view_key: bytes | None = None, *,
              votes: Sequence[tuple[int, NDArray[np.intp]]] | None = None,
              own_ballot: NDArray[np.intp] | None = None,
-             vote: bool = True) -> PositioningDecision:
+             vote: bool = True, since_own_change: bool = False) -> PositioningDecision:
         """Decide this cycle's position from ``view`` and the ``heard`` texts; advance a cycle.
 
         Args:
@@ -132,6 +132,10 @@ class PositioningAgent:
             own_ballot: the vector to count as this agent's own vote (e.g. the one it last
                 said, which is what its teammates hold); None: its fresh vector.
             vote: False: take the position of its own vector (voting switched off).
+            since_own_change: count only the vectors heard after this agent's own vector
+                last changed (``RoleVoter.vote``): for agents whose beliefs are exact and
+                shared (``state`` mode), where a vector heard before the change is only stale;
+                with noisy beliefs keep it False, or the vote never gathers.
         """
         f = self.formation if formation is None else formation
         if f.n_players != self.n:
@@ -141,7 +145,6 @@ class PositioningAgent:
             )
         cycle = self.cycle
         self.cycle += 1
-        decoded = votes is not None
         if votes is None:
             votes = [v for v in (decode_role_vote(t, self.n, self.channel) for t in heard)
                      if v is not None]
@@ -156,11 +159,8 @@ class PositioningAgent:
                       view.opponents.tobytes(), view.opponents_present.tobytes())
         positions, own = memoized(self.memo, key, lambda: self._assign(f, view))
         ballot = own.position_of if own_ballot is None else own_ballot
-        # voting on its fresh vector over role-vote texts (state mode), an agent drops the
-        # vectors heard before that vector changed (RoleVoter.vote, since_own_change)
-        fresh_only = own_ballot is None and not decoded
         team = self.voter.vote(ballot, cycle, validate=False,
-                               since_own_change=fresh_only) if vote else own.position_of
+                               since_own_change=since_own_change) if vote else own.position_of
         k = int(team[self.me])
         say = ""
         if (cycle + self.me) % self.say_every == 0:

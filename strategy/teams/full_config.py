@@ -73,6 +73,12 @@ class FullTeamConfig:
             follows its own role vector; the "silent" team).
         vote: adopt the team's vote (False: follow the own role vector but still talk; with
             ``communicate`` it measures what voting alone is worth).
+        vote_since_own_change: ``state`` mode: a teammate's vector counts only if heard
+            after the agent's own vector last changed. State-mode beliefs are exact and the
+            same for every agent, so a vector heard before a change is merely stale (a
+            listener hears one teammate per 2 cycles, so most held vectors are ~12 cycles
+            old), and counting it holds the team in the old assignment (docs/team_strength.md).
+            ``vision`` mode votes on the vectors said in turn and ignores this.
         say_every: say every this many cycles (staggered by uniform number; ``state`` mode;
             in ``vision`` mode one teammate talks every 2 cycles in uniform-number order).
     Perception (``vision`` mode): localization_particles: particles per agent of the Monte
@@ -104,6 +110,7 @@ class FullTeamConfig:
     set_play_clearance_m: float = field(default=2.6, metadata=search(Range(2.0, 4.0)))
     communicate: bool = True
     vote: bool = True
+    vote_since_own_change: bool = True
     localization_particles: int = 50
     say_every: int = 1
     nav_k_repulse: float = field(default=-0.35, metadata=search(Range(-1.5, -0.05)))

@@ -130,7 +130,8 @@ class Player:
         if reports is None:
             heard = wm.heard if c.communicate else ()
             decision = self.positioning.step(view, heard, formation, wm.belief_key or None,
-                                             vote=c.vote)
+                                             vote=c.vote,
+                                             since_own_change=c.vote_since_own_change)
             say = decision.say
         else:
             votes = [(r.sender, r.roles) for r in reports] if c.communicate else []

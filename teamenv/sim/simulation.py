@@ -105,6 +105,7 @@ class Simulation:
         self.turn = np.zeros(self.n)
         self.cycle = 0
         self.rng = np.random.default_rng(0)
+        self.channel_rng = np.random.default_rng(0)
         self._clear_heard()
         self.profile_phases = bool(profile_phases)
         # float() returns 0.0: with profiling off every phase adds 0 and the clock is not read.
@@ -120,15 +121,19 @@ class Simulation:
         self.phase_s = dict.fromkeys(SIM_PHASES, 0.0)
 
     def reset(self, rng: np.random.Generator,
-              vision_rng: np.random.Generator | None = None) -> None:
+              vision_rng: np.random.Generator | None = None,
+              channel_rng: np.random.Generator | None = None) -> None:
         """Start a new match with the env's generator; ``vision_rng`` is vision's own (noise,
-        calibration; spawned from ``rng`` when not given). State mode uses ``rng`` only."""
+        calibration) and ``channel_rng`` the say channel's (arrival order, loss), each spawned
+        from ``rng`` when not given, so that sightings and messages never shift the draws of
+        physics and beams."""
         self.rng = rng
         self.cycle = 0
         self.odometry = np.zeros((self.n, 3))
         self.turn = np.zeros(self.n)
         if self.vision is not None:
             self.vision.reset(rng.spawn(1)[0] if vision_rng is None else vision_rng)
+        self.channel_rng = rng.spawn(1)[0] if channel_rng is None else channel_rng
         self.bodies.reset()
         self.referee.reset()
         self.channel.reset()
@@ -245,9 +250,10 @@ class Simulation:
         poses = self.world.player_poses()
         if any(say):
             # = deliver([Utterance(i, text, 100.0) for each non-empty text]), less work
-            delivery = self.channel.deliver_texts(say, poses[:, :2], poses[:, 2], self.rng)
+            delivery = self.channel.deliver_texts(say, poses[:, :2], poses[:, 2],
+                                                 self.channel_rng)
         else:
-            delivery = self.channel.deliver((), poses[:, :2], poses[:, 2], self.rng)
+            delivery = self.channel.deliver((), poses[:, :2], poses[:, 2], self.channel_rng)
             report.deliveries = delivery
             return
         report.deliveries = delivery

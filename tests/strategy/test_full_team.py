@@ -258,3 +258,28 @@ def test_same_seed_same_match_result():
     assert r1.forfeit is None and r2.forfeit is None
     assert (r1.score, r1.goals, r1.cycles) == (r2.score, r2.goals, r2.cycles)
     assert r1.cycles >= 300
+
+
+# -- talking in state mode ---------------------------------------------------------------------
+def states_of_match(left: str, seed: int, **config) -> list[np.ndarray]:
+    env = teamenv.parallel_env(left=left, right="chaser", field="simspark", team_size=5,
+                               left_config=config, rules={"half_time_s": 15.0},
+                               profile_phases=False)
+    env.reset(seed=seed)
+    states = []
+    while not env.episode_over:
+        env.step({})
+        states.append(env.state().copy())
+    return states
+
+
+def test_in_state_mode_the_full_team_plays_exactly_as_its_silent_twin():
+    """State-mode beliefs are exact and shared, so the vote (counting only vectors heard since
+    the own vector last changed) always agrees with each agent's own vector, and the channel
+    draws from its own generator: talking changes nothing on the pitch, cycle for cycle."""
+    full, silent = states_of_match("full", 5), states_of_match("silent", 5)
+    assert len(full) == len(silent)
+    assert all(np.array_equal(a, b) for a, b in zip(full, silent, strict=True))
+    # control: counting every vector within the age limit (the old rule) does change the match
+    stale = states_of_match("full", 5, vote_since_own_change=False)
+    assert any(not np.array_equal(a, b) for a, b in zip(full, stale, strict=False))

@@ -171,3 +171,27 @@ def test_role_vote_message_round_trip_and_budget():
     assert decode_role_vote("not a vote!") is None
     assert decode_role_vote(text, n=7) is None  # another team size's schema rejects it
     assert decode_role_vote(123) is None  # type: ignore[arg-type]
+
+
+def test_since_own_change_drops_vectors_heard_before_the_own_vector_changed():
+    voter = RoleVoter(3, me=0, max_age_cycles=60)
+    old, new = [0, 2, 1], [0, 1, 2]
+    assert voter.vote(old, cycle=0, since_own_change=True).tolist() == old
+    voter.hear(1, old, cycle=1)
+    voter.hear(2, old, cycle=2)
+    # our vector changes at cycle 3: the two vectors heard before are stale, ours decides
+    assert voter.vote(new, cycle=3, since_own_change=True).tolist() == new
+    # without the rule the two stale vectors outvote ours
+    plain = RoleVoter(3, me=0, max_age_cycles=60)
+    plain.vote(old, cycle=0)
+    plain.hear(1, old, cycle=1)
+    plain.hear(2, old, cycle=2)
+    assert plain.vote(new, cycle=3).tolist() == old
+    # vectors heard after the change count again: two fresh teammates outvote us
+    voter.hear(1, [1, 0, 2], cycle=4)
+    voter.hear(2, [1, 0, 2], cycle=5)
+    assert voter.vote(new, cycle=5, since_own_change=True).tolist() == [1, 0, 2]
+    # an unchanged own vector keeps them counting; a reset forgets the change
+    assert voter.vote(new, cycle=6, since_own_change=True).tolist() == [1, 0, 2]
+    voter.reset()
+    assert voter.vote(new, cycle=0, since_own_change=True).tolist() == new
