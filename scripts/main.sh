@@ -14,7 +14,7 @@ echo "== one match: full vs chaser, simspark 11 v 11, two 60 s halves =="
 echo
 echo "== a small tournament: round robin of full, chaser and static, 7 v 7 on mj7v7, two 150 s halves, =="
 echo "== one seeded round x both sides per pairing; ranked on points, then on expected goals with intervals =="
-echo "== (silent, the full team without talk, is compared with it over 20 full-length matches in docs/team_strength.md) =="
+echo "== (silent, the full team without talk, plays the same state-mode match as full; vision mode: docs/team_strength.md) =="
 rm -f out/tournament.sqlite
 "$VENV/bin/teamenv" tournament run full chaser static --games 1 \
     --field mj7v7 --team-size 7 --half-time 150 --db out/tournament.sqlite -j 2 \
