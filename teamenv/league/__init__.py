@@ -5,7 +5,8 @@ length prefix), ``sexp`` (S-expression tokenizer), ``perception`` (every percept
 sends, parsed into dataclasses), ``effectors`` (init, beam, motors, say, syn), ``server`` (the
 server as a child process with clean shutdown), ``connection`` (one agent's socket, the monitor
 port), ``team_client`` (the sync-mode loop for all agents of a team), ``adapter`` (perceptions
--> vision observations, requests -> effectors), ``match`` and ``cli``.
+-> team-frame sightings, requests -> effectors), ``observation`` (perceptions -> the env's
+``vision``-mode observation), ``match`` (the team plugins on the server) and ``cli``.
 
 Must not import ``strategy`` (teams are found through the entry points, as everywhere in
 teamenv); the MuJoCo walker of ``locomotion.humanoid`` is imported only where it is used.

@@ -14,7 +14,9 @@ mirrors the right team); ``say`` is a text of the ``mj`` channel profile (padded
 most 10 bytes, exactly what our teams produce with ``channel="mj"``), checked by that profile
 and sent as its bytes. **Kicks:** the T1 under our walker has no kick motion; a kick request
 is turned into a walk through the ball (towards it at the walk's top speed, along the kick
-direction), which is how the ball is played on the server.
+direction), which is how the ball is played on the server. With ``idle`` (the match sends
+every joint held at 0), a zero walk stands still instead of stepping in place: our walker
+stepping on the spot falls within ~0.5 s on the server, the held stance stands.
 """
 
 from __future__ import annotations
@@ -119,9 +121,13 @@ KICK_WALK_SPEED = 0.4
 class RequestEncoder:
     """Requests -> one cycle's effector message for one agent, through its controller."""
 
-    def __init__(self, controller: LocomotionController, who: str, channel: str = "mj") -> None:
+    def __init__(self, controller: LocomotionController, who: str, channel: str = "mj",
+                 idle: str | None = None) -> None:
         self.controller = controller
         self.who = who
+        #: sent instead of the controller's motors while the walk is (0, 0, 0) and there is
+        #: no kick (the controller is reset, so a later walk starts afresh); None: always walk
+        self.idle = idle
         self.profile = get_profile(channel)
         if not self.profile.base64_payload:
             raise LeagueError(f"{who}: the league server needs the 'mj' channel, not {channel!r}")
@@ -136,7 +142,11 @@ class RequestEncoder:
             _, direction = request.kick
             walk = (KICK_WALK_SPEED * math.cos(direction), 0.0, direction / 0.5)
         if request.beam is None:
-            parts.append(self.controller.step(walk, perception))
+            if self.idle is not None and request.kick is None and not any(walk):
+                self.controller.reset()
+                parts.append(self.idle)
+            else:
+                parts.append(self.controller.step(walk, perception))
         if request.say:
             reason = self.profile.check_message(request.say)
             if reason is not None:

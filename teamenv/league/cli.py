@@ -8,8 +8,10 @@ import argparse
 def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("league-match", help="play a match on the league server (rcsssmj, "
                        "needs the humanoid extra) and record it in a tournament database")
-    p.add_argument("left", help="left side: a team spec (names the side and its database row)")
-    p.add_argument("right", help="right side")
+    p.add_argument("left", help="left side: a team spec, as in the tournament CLI (a registered "
+                   "team such as chaser, name:key=value,... config, or pkg.mod:Class); it plays "
+                   "in vision mode (mj profile, mj channel)")
+    p.add_argument("right", help="right side (a team spec)")
     p.add_argument("--team-size", type=int, default=7, help="players per side, 1-7 (default 7)")
     p.add_argument("--seconds", type=float, default=30.0, help="game time to play (s)")
     p.add_argument("--seed", type=int, default=0, help="seed stored with the match")

@@ -1,33 +1,50 @@
 """A match on the league server: start it, join both sides, beam, kick off, play a set length
-of game time, record the result in the tournament database, stop everything.
+of game time with the named strategy plugins, record the result in the tournament database,
+stop everything.
 
-Players are driven by a stand-in league behaviour (``chase_ball``): each walks (our T1 walker)
-towards where it last saw the ball and turns on the spot to look for it when it has not seen
-it for a second; a kick is the walk through the ball. The team specs name the sides (and the
-rows in the database); connecting the registered strategy plugins to the server is not done
-yet (see docs/league.md)."""
+Each side is a team spec (``chaser``, ``full:communicate=false``, ``pkg.mod:Class``), built
+with ``teamenv.teams.make_team`` exactly as the env builds it for ``observation_mode="vision"``,
+``vision="mj"``, ``channel="mj"`` on ``mj7v7`` (the ``TeamContext`` says so), reset with the
+seed the env would give it, and called once per server cycle with every agent's observation
+from ``VisionObservationBuilder`` (the env's Dict layout). Its actions are checked by the env's
+own action parser (the same errors) and sent through ``RequestEncoder``: walk through our T1
+walker, a kick as a walk through the ball, beam (only in BeforeKickOff and after a goal, as in
+the env; refused otherwise) and say (``mj`` channel text).
+"""
 
 from __future__ import annotations
 
-import math
 import re
 import time
-from collections.abc import Callable
-from dataclasses import dataclass
+from collections import deque
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
-from teamenv.errors import ConfigError
+import numpy as np
+
+from teamenv.actions import ActionParser
+from teamenv.errors import ActionError, ConfigError, TeamFault
 from teamenv.match import Goal, MatchOptions, MatchResult
+from teamenv.sim.simulation import Commands
+from teamenv.teams import TeamContext, make_team, team_version
+from teamenv.tournament.spec import parse_team_spec
 
 from . import effectors
-from .adapter import LeagueObservation, Request, RequestEncoder, observe
-from .controller import WalkerController
+from .adapter import Request, RequestEncoder
+from .controller import CYCLE_S, WalkerController
+from .observation import SAID_MEMORY_CYCLES, VisionObservationBuilder
+from .perception import Perception
 from .server import LeagueServer, ServerOptions
 from .t1 import T1_MOTORS
 from .team_client import TeamClient, join_teams
 
 #: players of the ``ssim`` rules (7 v 7 on fifa7vs7)
 MAX_TEAM_SIZE = 7
+#: our field preset of the server's ``fifa7vs7`` and the robot profile of the env's teams
+FIELD = "mj7v7"
+LOCOMOTION_PROFILE = "t1_mj"
 
 
 @dataclass(frozen=True)
@@ -50,8 +67,9 @@ class LeagueMatchOptions:
 
     def match_options(self) -> MatchOptions:
         """The env's options for the same match (what the database stores)."""
-        return MatchOptions(field="mj7v7", team_size=self.team_size, half_time_s=self.game_s,
-                            halves=1, channel="mj")
+        return MatchOptions(field=FIELD, team_size=self.team_size, half_time_s=self.game_s,
+                            halves=1, observation_mode="vision", channel="mj",
+                            locomotion_profile=LOCOMOTION_PROFILE, vision="mj")
 
 
 def server_team_name(label: str, other: str | None = None) -> str:
@@ -60,80 +78,210 @@ def server_team_name(label: str, other: str | None = None) -> str:
     return name + "_R" if other is not None and name == other else name
 
 
-def home_position(unum: int) -> tuple[float, float, float]:
-    """Beam pose (x, y, theta) in the team frame: a line in the own half facing the goal."""
-    return (-2.0 - 3.0 * ((unum - 1) // 3), 6.0 * (((unum - 1) % 3) - 1), 0.0)
+#: cycles the teams play in BeforeKickOff before the kick-off (the env's ``before_kickoff_s``)
+BEFORE_KICK_OFF_CYCLES = 10
+
+#: every motor held at 0 (sent with a beam, when the walker does not run: an uncommanded motor
+#: lets the server zero every robot's controls, see docs/league.md)
+HOLD = effectors.message(*(effectors.motor(m, 0.0, 0.0, 50.0, 1.0) for m in T1_MOTORS))
 
 
-def chase_ball(obs: LeagueObservation, last_seen: dict) -> Request:
-    """Walk towards the ball (last seen), or turn to look for it."""
-    if obs.ball is not None:
-        last_seen["az"], last_seen["t"] = obs.ball.azimuth, obs.time
-    if "t" in last_seen and obs.time - last_seen["t"] < 1.0:
-        az = last_seen["az"]
-        return Request(walk=(0.3 * max(0.0, math.cos(az)), 0.0, max(-0.8, min(0.8, 1.2 * az))))
-    return Request(walk=(0.0, 0.0, 0.6))
+def start_poses(team_size: int) -> list[tuple[float, float, float]]:
+    """The env's start poses of one team (team frame: own half, facing +x), by uniform order."""
+    from locomotion import load_profile
+    from teamenv.config import PhysicsConfig, RulesConfig
+    from teamenv.field import field_preset
+    from teamenv.sim.referee import Referee
+
+    referee = Referee(field_preset(FIELD), RulesConfig(), team_size, CYCLE_S,
+                      float(load_profile(LOCOMOTION_PROFILE).body_radius),
+                      PhysicsConfig().ball_radius)
+    return [tuple(float(v) for v in pose) for pose in referee.start_positions(0)]
+
+
+def team_context(side: str, team_size: int) -> TeamContext:
+    """What a team is told: the env's context for ``vision`` mode, ``mj`` profile and channel,
+    on ``mj7v7`` (walk range and kick reach of the ``t1_mj`` profile, the env's ball drag)."""
+    from locomotion import load_profile
+    from teamenv.config import VISION_PROFILES, PhysicsConfig
+    from teamenv.field import field_preset
+
+    profile = load_profile(LOCOMOTION_PROFILE)
+    physics = PhysicsConfig()
+    return TeamContext(
+        side=side, agents=tuple(f"{side}_{k + 1}" for k in range(team_size)),
+        team_size=team_size, field=field_preset(FIELD), cycle_s=CYCLE_S, channel="mj",
+        observation_mode="vision", seed=0,
+        walk_low=tuple(float(v) for v in profile.command_low),
+        walk_high=tuple(float(v) for v in profile.command_high),
+        kick_reach=float(profile.kick_reach), ball_linear_drag=physics.ball_linear_drag,
+        ball_rolling_decel=physics.ball_rolling_decel, perception=VISION_PROFILES["mj"],
+        vision="mj", landmark_kind="mj")
+
+
+def team_seeds(seed: int) -> tuple[int, int]:
+    """The seeds the env gives the left and right team for match seed ``seed``."""
+    _, left, right, *_ = np.random.SeedSequence(seed).spawn(6)
+    return int(left.generate_state(1)[0]), int(right.generate_state(1)[0])
+
+
+@dataclass
+class LeagueSide:
+    """One side of a league match: its team plugin and what turns perceptions into the
+    plugin's observations and its actions into effectors."""
+
+    label: str
+    side: str
+    server_name: str
+    team: Any
+    builder: VisionObservationBuilder
+    parser: ActionParser
+    encoders: dict[int, RequestEncoder] = field(default_factory=dict)
+    #: what each agent said in the last ``SAID_MEMORY_CYCLES`` cycles (newest last)
+    said: dict[int, deque] = field(default_factory=dict)
+    time_s: float = 0.0
+
+    @property
+    def agents(self) -> tuple[str, ...]:
+        return self.builder.agents
+
+    def fault(self, reason: str, detail: str) -> TeamFault:
+        return TeamFault(self.side, reason, f"team {self.label!r} (agents "
+                         f"{', '.join(self.agents)}): {detail}")
+
+    def act(self, perceptions: dict[int, Perception],
+            on_act: Callable[[str, dict, Any], None] | None = None) -> dict[int, str]:
+        """This cycle's effector message of every agent: observations -> ``team.act`` ->
+        the env's action checks -> effectors."""
+        observations = self.builder.observe_team(perceptions, self.said)
+        game = next(iter(perceptions.values())).game
+        start = time.perf_counter()
+        try:
+            actions = self.team.act(observations)
+        except Exception as exc:  # the plugin's bug, named as such
+            raise self.fault("raised", f"act() raised at game time {game.time:.2f} s: "
+                                       f"{type(exc).__name__}: {exc}") from exc
+        self.time_s += time.perf_counter() - start
+        if on_act is not None:
+            on_act(self.side, observations, actions)
+        if not isinstance(actions, Mapping):
+            raise self.fault("invalid_action", f"act() returned {type(actions).__name__}, "
+                             "expected a dict keyed by agent name")
+        extra = [a for a in actions if a not in observations]
+        if extra:
+            raise self.fault("invalid_action", f"act() returned actions for {extra}, which it "
+                             "does not drive")
+        given = [a for a in self.agents if a in actions]   # a missing agent idles
+        cmd = Commands.idle(len(self.agents))
+        rows = [self.agents.index(a) for a in given]
+        try:
+            self.parser.fill(cmd, rows, given, [actions[a] for a in given], {})
+        except ActionError as exc:  # names the agent, field and value
+            raise self.fault("invalid_action", str(exc)) from exc
+        beam_ok = game.play_mode == "BeforeKickOff" or game.play_mode.startswith("Goal_")
+        out = {}
+        for unum, p in perceptions.items():
+            k = unum - 1
+            beam = tuple(float(v) for v in cmd.beam[k]) \
+                if cmd.beam_request[k] and beam_ok else None
+            kick = (float(cmd.kick_power[k]), float(cmd.kick_dir[k])) \
+                if cmd.kick_power[k] > 0 else None
+            request = Request(walk=tuple(float(v) for v in cmd.walk[k]), kick=kick, beam=beam,
+                              say=cmd.say[k] or None)
+            message = self.encoders[unum].encode(request, p)
+            if beam is not None:   # no walker this cycle: hold every motor
+                message += HOLD
+                self.builder.note_beam(unum)
+            out[unum] = message
+            self.said.setdefault(unum, deque(maxlen=SAID_MEMORY_CYCLES)).append(cmd.say[k])
+        return out
+
+
+def make_side(spec: str, side: str, team_size: int, seed: int,
+              other: str | None = None) -> LeagueSide:
+    """Build the plugin of team spec ``spec`` for ``side`` and reset it with the env's seed
+    for match seed ``seed`` (``other``: the other side's server name, kept distinct)."""
+    import comms
+    from locomotion import load_profile
+    from teamenv.field import field_preset
+    parsed = parse_team_spec(spec)
+    label = parsed.label
+    name = server_team_name(label, other)
+    team = make_team(parsed.name, team_context(side, team_size), parsed.config_dict)
+    profile = load_profile(LOCOMOTION_PROFILE)
+    teams = np.repeat([0, 1], team_size)
+    parser = ActionParser(field_preset(FIELD), profile.command_low, profile.command_high,
+                          comms.make_channel("mj", 2 * team_size, teams), "dict", True)
+    out = LeagueSide(label, side, name, team, VisionObservationBuilder(side, team_size, name),
+                     parser)
+    try:
+        team.reset(team_seeds(seed)[0 if side == "left" else 1])
+    except Exception as exc:
+        raise out.fault("raised", f"reset() raised: {type(exc).__name__}: {exc}") from exc
+    return out
 
 
 def play_league_match(left: str, right: str, options: LeagueMatchOptions = LeagueMatchOptions(),
                       seed: int = 0, on_cycle: Callable[[float, tuple[int, int]], None] | None = None,
-                      log_dir: str | Path | None = None) -> MatchResult:
-    """Play one match on a fresh server and return its result (the server is always stopped).
+                      log_dir: str | Path | None = None,
+                      on_act: Callable[[str, dict, Any], None] | None = None) -> MatchResult:
+    """Play one match of team specs ``left`` and ``right`` on a fresh server and return its
+    result (the server is always stopped, also when a team raises).
 
-    ``on_cycle(game_time_s, score)`` is called every cycle (progress display)."""
-    names = (server_team_name(left), )
-    names = (names[0], server_team_name(right, names[0]))
+    ``on_cycle(game_time_s, score)`` is called every cycle (progress display);
+    ``on_act(side, observations, actions)`` after every ``act`` of a team (tests)."""
     n = options.team_size
     start = time.monotonic()
+    first = make_side(left, "left", n, seed)
+    sides = (first, make_side(right, "right", n, seed, first.server_name))
     goals: list[Goal] = []
     cycles = 0
+    score = (0, 0)
     with LeagueServer(ServerOptions(rules=options.rules), log_dir=log_dir) as server:
-        teams = [TeamClient("127.0.0.1", server.agent_port, name, range(1, n + 1),
-                            check_alive=server.check_alive) for name in names]
+        clients = [TeamClient("127.0.0.1", server.agent_port, s.server_name, range(1, n + 1),
+                              check_alive=server.check_alive) for s in sides]
         try:
-            sides = ("left", "right")
-            # controllers first: an active agent that does not answer for 5 s is dropped
-            encoders = [{u: RequestEncoder(WalkerController(), t.who(u)) for u in t.unums}
-                        for t in teams]
-            join_teams(teams)
-            memory = [{u: {} for u in t.unums} for t in teams]
-            hold = effectors.message(*(effectors.motor(m, 0.0, 0.0, 50.0, 1.0) for m in T1_MOTORS))
-            # beam everyone home (holding every motor), then kick off
-            for k, t in enumerate(teams):
-                t.act({u: encoders[k][u].encode(Request(beam=home_position(u)), t.last[u]) + hold
-                       for u in t.unums})
-            for t in teams:
-                t.perceive()
-            for t in teams:
-                t.act({u: hold for u in t.unums})
-            server.monitor.kick_off(options.kick_off)
-            score = (0, 0)
-            game_t = 0.0
+            # walkers first: an active agent that does not answer for 5 s is dropped
+            for s, c in zip(sides, clients, strict=True):
+                s.encoders = {u: RequestEncoder(WalkerController(), c.who(u), idle=HOLD)
+                              for u in c.unums}
+            join_teams(clients)
+            homes = start_poses(n)
+            for s, c in zip(sides, clients, strict=True):   # the env's start poses
+                c.act({u: s.encoders[u].encode(Request(beam=homes[u - 1]), c.last[u]) + HOLD
+                       for u in c.unums})
+                for u in c.unums:
+                    s.builder.note_beam(u)
+            before = 0
+            kicked_off = False
             while True:
-                percepts = [t.perceive() for t in teams]
+                percepts = [c.perceive() for c in clients]
                 gs = percepts[0][1].game
-                game_t = gs.time
                 new = (gs.score_left, gs.score_right)
-                for s, (a, b) in enumerate(zip(score, new, strict=True)):
-                    goals += [Goal(game_t, sides[s], None, None)] * max(0, b - a)
+                for k, (a, b) in enumerate(zip(score, new, strict=True)):
+                    goals += [Goal(gs.time, sides[k].side, None, None)] * max(0, b - a)
                 score = new
                 if on_cycle is not None:
-                    on_cycle(game_t, score)
-                if game_t >= options.game_s:
+                    on_cycle(gs.time, score)
+                if kicked_off and gs.time >= options.game_s:
                     break
-                for k, t in enumerate(teams):
-                    acts = {}
-                    for u, p in percepts[k].items():
-                        obs = observe(p, t.team, sides[k])
-                        acts[u] = encoders[k][u].encode(chase_ball(obs, memory[k][u]), p)
-                    t.act(acts)
-                cycles += 1
+                for s, c, p in zip(sides, clients, percepts, strict=True):
+                    c.act(s.act(p, on_act))
+                if kicked_off:
+                    cycles += 1
+                else:
+                    before += 1
+                    if before >= BEFORE_KICK_OFF_CYCLES:
+                        server.monitor.kick_off(options.kick_off)
+                        kicked_off = True
         finally:
-            for t in teams:
-                t.close()
-    return MatchResult(seed=seed, left=left, right=right, score=score, goals=tuple(goals),
-                       cycles=cycles, wall_s=time.monotonic() - start,
-                       team_versions=("league-server", "league-server"),
+            for c in clients:
+                c.close()
+    return MatchResult(seed=seed, left=first.label, right=sides[1].label, score=score,
+                       goals=tuple(goals), cycles=cycles, wall_s=time.monotonic() - start,
+                       team_versions=tuple(team_version(parse_team_spec(s.label).name)
+                                           for s in sides),
+                       team_time_s=(sides[0].time_s, sides[1].time_s),
                        options=options.match_options())
 
 
@@ -147,6 +295,6 @@ def record_league_match(db: str | Path, name: str, result: MatchResult,
     with ResultStore(db) as store:
         found = store.find_tournament(name)
         tid = found[0] if found else store.create_tournament(
-            t, {spec.label: "league-server" for spec in t.teams})
+            t, dict(zip((result.left, result.right), result.team_versions, strict=True)))
         store.record_match(tid, t.schedule()[0], result)
     return tid

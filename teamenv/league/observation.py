@@ -28,8 +28,9 @@ Where the server gives something else than the env, the nearest equivalent is fi
   modes we lack (free kicks, offside, penalties) as a kick-in of the team that takes it.
 - ``game``: game time, half 1 (a league match here is one half), own and their score.
 - ``heard``/``heard_text``: the server does not say who spoke; a message counts as a
-  teammate's when its text is one that a teammate said the cycle before (``teammate_texts``),
-  else as an opponent's. Slot order as the env: teammates, then opponents (never oneself:
+  teammate's when its text is one that a teammate said lately (``teammate_texts``; the
+  match loop looks back ``SAID_MEMORY_CYCLES``), else as an opponent's. Slot order as the
+  env: teammates, then opponents (never oneself:
   the server does not echo), at most ``max_heard`` (8), direction = the server's integer
   azimuth (its sensor frame).
 """
@@ -58,8 +59,9 @@ from .perception import Perception, Polar
 FALL_TILT = math.radians(45.0)
 #: torso height (m) under which a robot counts as fallen (it stands at ~0.66 m)
 FALL_HEIGHT_M = 0.4
-#: the server's cycle (s)
-CYCLE_S = 0.02
+#: cycles a said text is remembered to recognise it when heard (the server delivers it in
+#: the second perception after the one it answered; the env in the next)
+SAID_MEMORY_CYCLES = 3
 
 #: server play mode -> (our mode kind, team) where the names differ (team None: no team)
 _MODE_KINDS: dict[str, str] = {
@@ -150,8 +152,8 @@ class VisionObservationBuilder:
                 teammate_texts: Iterable[str] = ()) -> dict[str, Any]:
         """Agent ``unum``'s Dict observation of perception ``p``.
 
-        ``teammate_texts``: what this team's agents said the cycle before (heard messages
-        with one of these texts count as a teammate's)."""
+        ``teammate_texts``: what this team's other agents said lately (heard messages with
+        one of these texts count as a teammate's)."""
         if not 1 <= unum <= self.team_size:
             raise LeagueError(f"team {self.team}: uniform number {unum} is not in "
                               f"1..{self.team_size}")
@@ -231,13 +233,14 @@ class VisionObservationBuilder:
 
     # -- the team --------------------------------------------------------------------------
     def observe_team(self, perceptions: Mapping[int, Perception],
-                     said: Mapping[int, str] | None = None) -> dict[str, dict[str, Any]]:
-        """Every agent's observation, keyed by the env's agent names; ``said``: what each
-        agent of this team said the cycle before (by uniform number, "" = nothing)."""
+                     said: Mapping[int, Iterable[str]] | None = None) -> dict[str, dict[str, Any]]:
+        """Every agent's observation, keyed by the env's agent names. ``said``: per uniform
+        number, the texts that agent said in the last few cycles (the server delivers a
+        message two perceptions after it was said); a heard text one of the *other* agents
+        of this team said counts as a teammate's."""
         said = said or {}
         out = {}
         for unum, p in perceptions.items():
-            mates = [t for u, t in said.items() if t and u != unum]
+            mates = {t for u, texts in said.items() if u != unum for t in texts if t}
             out[self.agent(unum)] = self.observe(unum, p, mates)
         return out
-

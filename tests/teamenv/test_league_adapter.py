@@ -79,6 +79,12 @@ def test_requests_to_effectors():
     assert ctl.commands[-2] == (0.2, 0.0, 0.1) and ctl.commands[-1][0] > 0.3
     with pytest.raises(LeagueError, match="agent Alpha_1: say 'hello' breaks the mj channel"):
         enc.encode(Request(say="hello"), p)
+    idle = RequestEncoder(ctl, "agent Alpha_1", idle="(hold)")
+    before = len(ctl.commands)
+    assert idle.encode(Request(), p) == "(hold)" and ctl.resets == 2      # stands, no walker
+    assert idle.encode(Request(kick=(1.0, 0.0)), p) == "(he1 0 0 0 0 0)"  # a kick walks
+    assert idle.encode(Request(walk=(0.1, 0.0, 0.0)), p) == "(he1 0 0 0 0 0)"
+    assert len(ctl.commands) == before + 2
     with pytest.raises(LeagueError, match="needs the 'mj' channel"):
         RequestEncoder(ctl, "agent Alpha_1", channel="simspark")
 

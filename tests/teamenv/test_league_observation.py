@@ -208,7 +208,7 @@ def test_heard_messages_fill_the_env_slots_teammates_first():
     assert obs["heard_text"] == tuple(texts[7:] + texts[:5])
     assert obs["heard"][:, 2].tolist() == [1.0] * 3 + [0.0] * 5
     assert obs["heard"][:, 1].sum() == 0                     # never from oneself
-    said = b.observe_team({1: p, 2: p}, said={1: hello, 2: ""})
+    said = b.observe_team({1: p, 2: p}, said={1: [hello], 2: ["", "x"]})
     assert said["right_1"]["heard"][0, 2] == 0.0 and said["right_2"]["heard"][0, 2] == 1.0
 
 
