@@ -57,3 +57,16 @@ def test_every_reference_page_is_in_the_site_nav() -> None:
     assert len(REFERENCE) >= 15
     for page in PAGES:
         assert page.name in nav, f"{page.name} is not in mkdocs.yml's nav"
+
+
+def test_every_skipped_block_says_why() -> None:
+    """A block the docs test does not run says so, with the reason, just before it."""
+    for page in PAGES:
+        lines = page.read_text(encoding="utf-8").splitlines()
+        for number, line in enumerate(lines):
+            if line.strip() == "<!-- skip: next -->":
+                before = " ".join(" ".join(lines[max(0, number - 8):number]).split()).lower()
+                assert "docs test" in before or "not run" in before, (
+                    f"{page.name} line {number + 1}: a skipped block with no reason before it "
+                    "(write why the docs test does not run it)"
+                )
