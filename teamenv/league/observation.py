@@ -55,8 +55,9 @@ from .adapter import observe
 from .errors import LeagueError
 from .perception import Perception, Polar
 
-#: torso tilt (rad from upright) beyond which a robot counts as fallen
-FALL_TILT = math.radians(45.0)
+#: torso tilt (rad from upright) beyond which a robot counts as fallen (our walker leans
+#: up to ~40° while starting and recovers: not a fall)
+FALL_TILT = math.radians(60.0)
 #: torso height (m) under which a robot counts as fallen (it stands at ~0.66 m)
 FALL_HEIGHT_M = 0.4
 #: cycles a said text is remembered to recognise it when heard (the server delivers it in

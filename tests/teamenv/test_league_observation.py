@@ -155,6 +155,7 @@ def test_fallen_from_the_torso_attitude_or_height():
     assert not is_fallen(p)
     assert is_fallen(_moved(p, tilt=math.radians(80)))
     assert not is_fallen(_moved(p, tilt=math.radians(20)))
+    assert not is_fallen(_moved(p, tilt=math.radians(50)))       # leaning, recovers
     assert is_fallen(_moved(p, z=0.2))
     obs = VisionObservationBuilder("left", 2, "Alpha").observe(1, _moved(p, tilt=1.4))
     assert obs["body"][0] == 1.0
