@@ -29,7 +29,8 @@ ROOT = Path(__file__).resolve().parents[1]
 TUTORIALS = [p for p in sorted((ROOT / "docs" / "tutorials").glob("*.md")) if p.name != "index.md"]
 PAGES = [*TUTORIALS, ROOT / "README.md"]
 # Pages that need an optional extra; CI installs every extra (scripts/test.sh), so they run there.
-MARKS = {"train_sb3.md": [pytest.mark.rl], "locomotion_fidelity.md": [pytest.mark.humanoid]}
+MARKS = {"train_sb3.md": [pytest.mark.rl], "locomotion_fidelity.md": [pytest.mark.humanoid],
+         "league_match.md": [pytest.mark.humanoid]}
 
 
 def save_file(example: Example) -> None:
