@@ -17,7 +17,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=int, default=0, help="seed stored with the match")
     p.add_argument("--kick-off", default="Left", choices=("Left", "Right"))
     p.add_argument("--db", default=None, help="SQLite results database to record the match in")
-    p.add_argument("--name", default="league", help="tournament name in --db (default league)")
+    p.add_argument("--name", default="league", help="tournament name in --db (default league): the match is "
+                   "the one match of this new tournament (a name already holding one is an error)")
     p.add_argument("--log-dir", default=None, help="where the server's log goes (default: tmp)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=_run)
@@ -26,10 +27,17 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 def _run(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
-    from .match import LeagueMatchOptions, play_league_match, record_league_match
+    from .match import (
+        LeagueMatchOptions,
+        check_league_record,
+        play_league_match,
+        record_league_match,
+    )
 
     options = LeagueMatchOptions(team_size=args.team_size, game_s=args.seconds,
                                  kick_off=args.kick_off)
+    if args.db:
+        check_league_record(args.db, args.name)   # before minutes of play, not after
     bar = tqdm(total=round(args.seconds, 2), unit="s game", disable=args.no_progress,
                bar_format="{l_bar}{bar}| {n:.2f}/{total:.2f} s game [{elapsed}<{remaining}]")
 

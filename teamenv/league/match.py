@@ -34,6 +34,7 @@ from teamenv.tournament.spec import parse_team_spec
 from . import effectors
 from .adapter import Request, RequestEncoder
 from .controller import CYCLE_S, WalkerController
+from .errors import LeagueError
 from .observation import SAID_MEMORY_CYCLES, VisionObservationBuilder
 from .perception import Perception
 from .server import LeagueServer, ServerOptions
@@ -285,16 +286,41 @@ def play_league_match(left: str, right: str, options: LeagueMatchOptions = Leagu
                        options=options.match_options())
 
 
+def check_league_record(db: str | Path, name: str) -> None:
+    """Raise LeagueError when tournament ``name`` in ``db`` already holds its league match
+    (each league match is the one match of its own tournament): checked before playing."""
+    from teamenv.tournament import ResultStore
+
+    if not Path(db).exists():
+        return
+    with ResultStore(db) as store:
+        found = store.find_tournament(name)
+        if found is not None and store.count_matches(found[0]):
+            raise LeagueError(f"database {str(db)!r}: tournament {name!r} already holds its "
+                              "league match; give each league match its own --name")
+
+
 def record_league_match(db: str | Path, name: str, result: MatchResult,
                         options: LeagueMatchOptions) -> int:
-    """Store ``result`` as the one match of tournament ``name`` (created if new) in ``db``."""
-    from teamenv.tournament import ResultStore, round_robin
+    """Store ``result`` as the one match of the new tournament ``name`` in ``db``; a LeagueError
+    when that tournament already holds a match (nothing is overwritten or dropped)."""
+    from teamenv.tournament import ResultStore
 
-    t = round_robin(name, [result.left, result.right], games_per_pairing=1, swap_sides=False,
-                    seed=result.seed, options=options.match_options())
+    t = round_robin_of(name, result, options)
     with ResultStore(db) as store:
         found = store.find_tournament(name)
         tid = found[0] if found else store.create_tournament(
             t, dict(zip((result.left, result.right), result.team_versions, strict=True)))
-        store.record_match(tid, t.schedule()[0], result)
+        if not store.record_match(tid, t.schedule()[0], result):
+            raise LeagueError(f"database {str(db)!r}: tournament {name!r} already holds its "
+                              f"league match; {result.left} v {result.right} was not stored "
+                              "(give each league match its own --name)")
     return tid
+
+
+def round_robin_of(name: str, result: MatchResult, options: LeagueMatchOptions):
+    """The one-match tournament a league match is stored as."""
+    from teamenv.tournament import round_robin
+
+    return round_robin(name, [result.left, result.right], games_per_pairing=1, swap_sides=False,
+                       seed=result.seed, options=options.match_options())

@@ -14,9 +14,11 @@ import teamenv
 from teamenv.cli import main
 from teamenv.errors import ConfigError, TeamFault, TeamLoadError
 from teamenv.league.adapter import RequestEncoder
+from teamenv.league.errors import LeagueError
 from teamenv.league.match import (
     BEFORE_KICK_OFF_CYCLES,
     LeagueMatchOptions,
+    check_league_record,
     make_side,
     play_league_match,
     record_league_match,
@@ -183,7 +185,7 @@ def test_chaser_against_static_on_the_real_server(tmp_path):
     assert tournament.options.observation_mode == "vision" and tournament.options.vision == "mj"
 
 
-def test_result_is_stored_in_the_tournament_format(tmp_path):
+def test_result_is_stored_in_the_tournament_format(tmp_path, capsys):
     db = tmp_path / "league.sqlite"
     opts = LeagueMatchOptions(team_size=2, game_s=5.0)
     result = MatchResult(seed=0, left="chaser", right="static", score=(1, 0),
@@ -197,6 +199,17 @@ def test_result_is_stored_in_the_tournament_format(tmp_path):
     assert tournament.options.field == "mj7v7" and tournament.options.team_size == 2
     table = league_table([rec])
     assert table[0].team == "chaser" and table[0].points == 3
+    # a second match under the same name is an error, before playing and when storing
+    with pytest.raises(LeagueError, match="tournament 'lm' already holds its league match"):
+        check_league_record(db, "lm")
+    other = dataclasses.replace(result, left="full", seed=1)
+    with pytest.raises(LeagueError, match="full v static was not stored"):
+        record_league_match(db, "lm", other, opts)
+    check_league_record(db, "another")
+    check_league_record(tmp_path / "new.sqlite", "lm")
+    assert main(["league-match", "static", "static", "--db", str(db), "--name", "lm",
+                 "--no-progress"]) == 2
+    assert "already holds its league match" in capsys.readouterr().err
 
 
 @pytest.mark.humanoid
