@@ -1,4 +1,5 @@
-"""``teamenv league-match A B``: one match on the league's real server (rcssservermj)."""
+"""``teamenv league-match A B``: one match on the league's real server (rcssservermj);
+``teamenv league-tournament A B C ...``: a round robin there, stored as one tournament."""
 
 from __future__ import annotations
 
@@ -17,11 +18,26 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=int, default=0, help="seed stored with the match")
     p.add_argument("--kick-off", default="Left", choices=("Left", "Right"))
     p.add_argument("--db", default=None, help="SQLite results database to record the match in")
-    p.add_argument("--name", default="league", help="tournament name in --db (default league): the match is "
-                   "the one match of this new tournament (a name already holding one is an error)")
+    p.add_argument("--name", default="league", help="tournament name in --db (default league): "
+                   "the match is the one match of this new tournament (a name already holding "
+                   "one is an error)")
     p.add_argument("--log-dir", default=None, help="where the server's log goes (default: tmp)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=_run)
+
+    t = sub.add_parser("league-tournament", help="a round robin of team specs on the league "
+                       "server (one match at a time, each stored as it ends; --resume)")
+    t.add_argument("teams", nargs="*", help="team specs (at least two; none with --resume)")
+    t.add_argument("--db", required=True, help="SQLite results database")
+    t.add_argument("--name", required=True, help="tournament name in --db")
+    t.add_argument("--games", type=int, default=1,
+                   help="seeded rounds per pairing, each played once with either team left")
+    t.add_argument("--team-size", type=int, default=7, help="players per side, 1-7 (default 7)")
+    t.add_argument("--seconds", type=float, default=30.0, help="game time per match (s)")
+    t.add_argument("--seed", type=int, default=0, help="the tournament's base seed")
+    t.add_argument("--resume", action="store_true", help="play what is missing of --name")
+    t.add_argument("--log-dir", default=None, help="where the servers' logs go (default: tmp)")
+    t.set_defaults(func=_run_tournament)
 
 
 def _run(args: argparse.Namespace) -> int:
@@ -54,4 +70,23 @@ def _run(args: argparse.Namespace) -> int:
     if args.db:
         record_league_match(args.db, args.name, result, options)
         print(f"recorded in {args.db} (tournament {args.name!r})")
+    return 0
+
+
+def _run_tournament(args: argparse.Namespace) -> int:
+    from .match import LeagueMatchOptions
+    from .tournament import run_league_tournament
+
+    teams = args.teams or None
+    options = None if args.resume and not teams else LeagueMatchOptions(
+        team_size=args.team_size, game_s=args.seconds)
+
+    def report(done: int, total: int, result) -> None:
+        print(f"[{done}/{total}] {result.summary().splitlines()[0]}", flush=True)
+
+    summary = run_league_tournament(args.name, args.db, teams, options, games=args.games,
+                                    seed=args.seed, resume=args.resume, log_dir=args.log_dir,
+                                    on_match=report)
+    print(f"{args.name}: {summary.played} played, {summary.skipped} already stored, "
+          f"{summary.scheduled} scheduled ({summary.wall_s:.0f} s wall)")
     return 0

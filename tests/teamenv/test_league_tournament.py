@@ -1,0 +1,88 @@
+"""League round robin (``teamenv league-tournament``) without a server: the tournament
+module's schedule, each match stored as it ends with its task's seed, resume plays only what
+is missing, a definition mismatch or a missing tournament is an error, and the stored
+tournament reads back like any other (table, the fidelity benchmark's points)."""
+
+from __future__ import annotations
+
+import pytest
+
+from teamenv.cli import main
+from teamenv.league import tournament as lt
+from teamenv.league.errors import LeagueError
+from teamenv.league.match import LeagueMatchOptions
+from teamenv.match import Goal, MatchResult
+from teamenv.tournament import ResultStore
+from teamenv.tournament.table import league_table
+
+TEAMS = ["chaser", "static", "full:communicate=false"]
+OPTS = LeagueMatchOptions(team_size=2, game_s=3.0)
+
+
+class FakePlay:
+    """Stands in for play_league_match: the left team wins 1-0, unless it is static; stops
+    (as a Ctrl-C would) after ``stop_after`` matches."""
+
+    def __init__(self, stop_after=None):
+        self.calls, self.stop_after = [], stop_after
+
+    def __call__(self, left, right, options, seed, log_dir=None):
+        if self.stop_after is not None and len(self.calls) == self.stop_after:
+            raise KeyboardInterrupt
+        self.calls.append((left, right, seed, options))
+        score = (0, 0) if left == "static" else (1, 0)
+        goals = (Goal(1.0, "left", None, None),) if score[0] else ()
+        return MatchResult(seed=seed, left=left, right=right, score=score, goals=goals,
+                           cycles=150, wall_s=1.0, options=options.match_options())
+
+
+def test_round_robin_is_played_stored_and_resumed(tmp_path):
+    db = tmp_path / "league.sqlite"
+    first = FakePlay(stop_after=4)
+    with pytest.raises(KeyboardInterrupt):
+        lt.run_league_tournament("rr", db, TEAMS, OPTS, games=1, seed=5, play=first)
+    again = FakePlay()
+    summary = lt.run_league_tournament("rr", db, resume=True, play=again)
+    assert (summary.scheduled, summary.played, summary.skipped) == (6, 2, 4)
+    with ResultStore(db) as store:
+        tid, tournament = store.get_tournament("rr")
+        records = store.matches(tid)
+    schedule = tournament.schedule()
+    assert len(records) == 6 and {r.idx for r in records} == {t.index for t in schedule}
+    assert {(r.left_team, r.right_team, r.seed) for r in records} == \
+        {(t.left.label, t.right.label, t.seed) for t in schedule}
+    played = first.calls + again.calls
+    assert [(t.left.label, t.right.label, t.seed) for t in schedule] == \
+        [(a, b, s) for a, b, s, _ in played]
+    assert all(o == OPTS for *_, o in played)
+    assert tournament.options.observation_mode == "vision" and tournament.options.vision == "mj"
+    table = {row.team: row.points for row in league_table(records, TEAMS)}
+    assert table == {"chaser": 7, "full:communicate=false": 7, "static": 2}  # 3 + 3 + 1 each
+    assert lt.run_league_tournament("rr", db, resume=True, play=FakePlay()).played == 0
+
+
+def test_errors_are_named(tmp_path):
+    db = tmp_path / "league.sqlite"
+    with pytest.raises(LeagueError, match="no tournament 'rr' to resume"):
+        lt.run_league_tournament("rr", db, resume=True, play=FakePlay())
+    lt.run_league_tournament("rr", db, TEAMS[:2], OPTS, play=FakePlay())
+    with pytest.raises(LeagueError, match="tournament 'rr' already exists"):
+        lt.run_league_tournament("rr", db, TEAMS[:2], OPTS, play=FakePlay())
+    with pytest.raises(LeagueError, match="stored definition differs"):
+        lt.run_league_tournament("rr", db, TEAMS[:2], LeagueMatchOptions(team_size=3),
+                                 resume=True, play=FakePlay())
+    with pytest.raises(LeagueError, match="needs its teams and options"):
+        lt.run_league_tournament("new", db, None, None, play=FakePlay())
+
+
+def test_cli(tmp_path, monkeypatch, capsys):
+    monkeypatch.setattr(lt, "play_league_match", FakePlay())
+    db = str(tmp_path / "l.sqlite")
+    assert main(["league-tournament", "chaser", "static", "--db", db, "--name", "rr",
+                 "--team-size", "1", "--seconds", "2", "--games", "2"]) == 0
+    out = capsys.readouterr().out
+    assert "[4/4] " in out and "rr: 4 played, 0 already stored, 4 scheduled" in out
+    assert main(["league-tournament", "--db", db, "--name", "rr", "--resume"]) == 0
+    assert "rr: 0 played, 4 already stored" in capsys.readouterr().out
+    assert main(["league-tournament", "--db", db, "--name", "other", "--resume"]) == 2
+    assert "no tournament 'other' to resume" in capsys.readouterr().err
