@@ -1,7 +1,7 @@
 """Ranking fidelity (issue 14): does a ranking made in teamenv hold on the league server?
 
 Skeleton: reads two tournaments stored in the tournament SQLite format — one played in teamenv
-(`teamenv tournament run ...`), one on the league server (`teamenv league-match ... --db`) —
+(`teamenv tournament run ...`), one on the league server (`teamenv league-tournament ...`) —
 ranks the teams in each by points per match (3/1/0, official scores), and reports Spearman's rho
 and Kendall's tau between the two rankings with percentile bootstrap intervals (matches
 resampled with replacement within each world, independently, seeded).
@@ -9,8 +9,9 @@ resampled with replacement within each world, independently, seeded).
     python benchmarks/fidelity_ranking.py --teamenv-db te.sqlite --teamenv-name rr \
         --league-db league.sqlite --league-name rr --bootstrap 1000 --seed 0 [--json out.json]
 
-No league-server round robin has been run yet: the league side's players are a stand-in (see
-docs/league.md), so a real study needs the strategy plugins connected to the server first.
+No league-server round robin has been run yet. The strategy plugins do play on the server now
+(`teamenv league-match` / `league-tournament`), but our T1 walker falls about a second after it
+starts walking there, so such a round robin would rank fallen robots (docs/league.md).
 """
 
 from __future__ import annotations
