@@ -53,7 +53,7 @@ def _run(args: argparse.Namespace) -> int:
     options = LeagueMatchOptions(team_size=args.team_size, game_s=args.seconds,
                                  kick_off=args.kick_off)
     if args.db:
-        check_league_record(args.db, args.name)   # before minutes of play, not after
+        check_league_record(args.db, args.name, args.left, args.right)  # before playing
     bar = tqdm(total=round(args.seconds, 2), unit="s game", disable=args.no_progress,
                bar_format="{l_bar}{bar}| {n:.2f}/{total:.2f} s game [{elapsed}<{remaining}]")
 

@@ -286,11 +286,18 @@ def play_league_match(left: str, right: str, options: LeagueMatchOptions = Leagu
                        options=options.match_options())
 
 
-def check_league_record(db: str | Path, name: str) -> None:
-    """Raise LeagueError when tournament ``name`` in ``db`` already holds its league match
-    (each league match is the one match of its own tournament): checked before playing."""
+def check_league_record(db: str | Path, name: str, left: str | None = None,
+                        right: str | None = None) -> None:
+    """Raise LeagueError when the match cannot be stored: tournament ``name`` in ``db``
+    already holds its league match (each league match is the one match of its own
+    tournament), or ``left`` and ``right`` are the same team spec (a tournament names each
+    team once). Checked before playing."""
     from teamenv.tournament import ResultStore
 
+    if left is not None and right is not None and \
+            parse_team_spec(left).label == parse_team_spec(right).label:
+        raise LeagueError(f"league match {left} v {right}: a team against itself cannot be "
+                          "stored as a tournament (play it without --db)")
     if not Path(db).exists():
         return
     with ResultStore(db) as store:

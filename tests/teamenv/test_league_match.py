@@ -206,8 +206,10 @@ def test_result_is_stored_in_the_tournament_format(tmp_path, capsys):
     with pytest.raises(LeagueError, match="full v static was not stored"):
         record_league_match(db, "lm", other, opts)
     check_league_record(db, "another")
+    with pytest.raises(LeagueError, match="a team against itself cannot be stored"):
+        check_league_record(db, "another", "chaser", "chaser")
     check_league_record(tmp_path / "new.sqlite", "lm")
-    assert main(["league-match", "static", "static", "--db", str(db), "--name", "lm",
+    assert main(["league-match", "static", "chaser", "--db", str(db), "--name", "lm",
                  "--no-progress"]) == 2
     assert "already holds its league match" in capsys.readouterr().err
 
