@@ -4,8 +4,8 @@ Training: Stable-Baselines3 PPO (tanh MLP 64-64, observations normalised by VecN
 the single-agent view ``gymnasium.make("teamenv/Player-v0", scenario=..., opponents="chaser")``:
 the learner is ``left_1``, the right side is the built-in chaser. The reward is the goal
 (+1/-1) by default. The learner acts through ``PlayActions``: walk and a kick direction within
-+-45 degrees of its heading; it kicks at full power whenever the ball is in reach. Training episodes use tuning seeds
-(``teamenv.seeds.tuning_seeds``), one fixed sequence per env copy.
++-18 degrees of its heading; it kicks at full power whenever the ball is in reach. Training
+episodes use tuning seeds (``teamenv.seeds.tuning_seeds``), one fixed sequence per env copy.
 
 Export: the policy's mean action network and the normalisation statistics go into the
 ``teamenv-mlp-v1`` format (``teamenv.policy_team.save_mlp_policy``), so the trained attacker
@@ -44,7 +44,7 @@ WIN = "goal"
 #: The learner's action (``PlayActions``): these entries of the env's Box action (vx, vy,
 #: vturn, kick_dir), each multiplied by ``LEARNED_SCALE``; the rest are ``FIXED``.
 LEARNED = np.array([0, 1, 2, 4])
-LEARNED_SCALE = np.array([1.0, 1.0, 1.0, 0.25])
+LEARNED_SCALE = np.array([1.0, 1.0, 1.0, 0.1])
 #: kick_power 1 (a full-power kick whenever the ball is in reach, as the chaser kicks), no beam.
 FIXED = np.array([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0])
 
@@ -67,7 +67,7 @@ class TuningSeedSchedule(gymnasium.Wrapper):
 class PlayActions(gymnasium.ActionWrapper):
     """The learner's action: walk (vx, vy, vturn) and kick direction, entry k in
     [-1/scale_k, 1/scale_k] (``LEARNED_SCALE``); the env gets ``FIXED`` with entry
-    ``LEARNED[k]`` = scale_k * entry k, in [-1, 1]. Kick direction (x0.25) spans +-45 degrees
+    ``LEARNED[k]`` = scale_k * entry k, in [-1, 1]. Kick direction (x0.1) spans +-18 degrees
     around the heading instead of +-180, so exploration with PPO's Gaussian aims roughly
     ahead. Kick power is not learned: a full-power kick is requested every cycle, so
     the player kicks whenever the ball is in reach (the chaser's rule). Learning it was tried
