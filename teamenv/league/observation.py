@@ -52,6 +52,7 @@ from teamenv.sim.vision import vision_layout
 from teamenv.spaces import vision_dict_observation_space
 
 from .adapter import observe
+from .controller import torso_pose
 from .errors import LeagueError
 from .perception import Perception, Polar
 
@@ -84,11 +85,6 @@ def play_mode_index(mode: str, side: str) -> int:
             raise LeagueError(f"play mode {mode!r} from the server is unknown") from None
         ours = PlayMode.of(_MODE_KINDS[kind], 0 if team == "left" else 1)
     return int(ours.for_team(0 if side == "left" else 1))
-
-
-def _yaw(q: tuple[float, float, float, float]) -> float:
-    w, x, y, z = q
-    return math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
 
 
 def _wrap(a: float) -> float:
@@ -188,11 +184,10 @@ class VisionObservationBuilder:
         row[a:a + 4] = (n_landmarks, n_players, 0, seen.ball is not None)
 
         # odometry and gyro from the true torso pose (first cycle, after a beam: 0)
-        q = p.orientations.get("torso_quat")
-        pos = p.positions.get("torso_pos")
-        if q is None or pos is None:
-            raise LeagueError(f"{who}: perception has no torso_pos/torso_quat")
-        pose = (float(pos[0]), float(pos[1]), _yaw(q))
+        try:
+            pose = torso_pose(p)
+        except LeagueError as exc:
+            raise LeagueError(f"{who}: {exc}") from None
         last = self._pose.get(unum)
         self._pose[unum] = pose
         if last is not None:
