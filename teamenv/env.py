@@ -28,7 +28,7 @@ from teamenv.scenarios import Scenario, ScenarioRun, get_scenario
 from teamenv.sim.perception import ObservationRows
 from teamenv.sim.playmode import PlayMode
 from teamenv.sim.simulation import SIM_PHASES, Commands, CycleReport, Simulation
-from teamenv.teams import TeamContext, make_team
+from teamenv.teams import make_team, team_context
 
 SIDES = ("left", "right")
 OBSERVATION_MODES = ("state", "vision")
@@ -54,6 +54,25 @@ class RewardInput:
 
 
 RewardFn = Callable[[RewardInput], Mapping[str, float]]
+
+
+def seed_children(seed: int | None) -> list[np.random.SeedSequence]:
+    """The generators' seeds of an episode reset with ``seed``, numbered: the env's (physics,
+    beams), the left and the right team's, vision's, a scenario's, the say channel's (arrival
+    order, loss). The first three are what they were before vision existed; each later one
+    has its own, so what a team says never moves the draws of physics, and two teams that
+    differ only in talk play the same match."""
+    return np.random.SeedSequence(seed).spawn(6)
+
+
+def _team_seed(seq: np.random.SeedSequence) -> int:
+    return int(seq.generate_state(1)[0])
+
+
+def team_seeds(seed: int | None) -> tuple[int, int]:
+    """The seeds ``reset(seed)`` gives the left and the right team."""
+    _, left, right, *_ = seed_children(seed)
+    return _team_seed(left), _team_seed(right)
 
 
 class SoccerParallelEnv(ParallelEnv):
@@ -258,18 +277,9 @@ class SoccerParallelEnv(ParallelEnv):
                 if config:
                     raise ConfigError(f"{side}_config given but no {side} team is named")
                 continue
-            agents = tuple(f"{side}_{k + 1}" for k in range(n))
-            context = TeamContext(side=side, agents=agents, team_size=n, field=self.field,
-                                  cycle_s=self.physics.cycle_s, channel=channel_profile.name,
-                                  observation_mode=observation_mode, seed=0,
-                                  walk_low=tuple(float(v) for v in profile.command_low),
-                                  walk_high=tuple(float(v) for v in profile.command_high),
-                                  kick_reach=float(profile.kick_reach),
-                                  ball_linear_drag=self.physics.ball_linear_drag,
-                                  ball_rolling_decel=self.physics.ball_rolling_decel,
-                                  perception=self.perception, vision=self.vision,
-                                  landmark_kind=None if self.perception is None
-                                  else self.perception.landmark_kind)
+            context = team_context(side, n, self.field, profile, self.physics,
+                                   channel_profile.name, observation_mode, self.perception,
+                                   self.vision)
             self.teams[side] = make_team(spec, context, config)
         self.team_agents = {side: [f"{side}_{k + 1}" for k in range(n)] for side in self.teams}
         self._team_agent_sets = {side: set(a) for side, a in self.team_agents.items()}
@@ -358,13 +368,8 @@ class SoccerParallelEnv(ParallelEnv):
             self._total_s += self._clock() - start
 
     def _reset(self, seed: int | None):
-        seed_seq = np.random.SeedSequence(seed)
-        # Children are numbered: the first three are what they were before vision existed;
-        # the fourth is vision's own generator, the fifth the scenario's, the sixth the say
-        # channel's (arrival order, loss): what a team says never moves the draws of physics
-        # (kicks, beams), so two teams that differ only in talk play the same match.
         env_seq, team_left_seq, team_right_seq, vision_seq, scenario_seq, channel_seq = \
-            seed_seq.spawn(6)
+            seed_children(seed)
         team_seqs = (team_left_seq, team_right_seq)
         self.np_random = np.random.default_rng(env_seq)
         self.sim.reset(self.np_random, np.random.default_rng(vision_seq),
@@ -373,7 +378,7 @@ class SoccerParallelEnv(ParallelEnv):
             self._scenario_run.start(self.sim, np.random.default_rng(scenario_seq))
         self.end_reason: str | None = None
         for k, (side, team) in enumerate(self.teams.items()):
-            team_seed = int(team_seqs[k].generate_state(1)[0])
+            team_seed = _team_seed(team_seqs[k])
             t0 = self._clock()
             self._team_call(side, team.reset, team_seed)
             self._phase_s["team_" + side] += self._clock() - t0

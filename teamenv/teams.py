@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from importlib.metadata import entry_points
 from typing import Any, Mapping, Protocol, runtime_checkable
 
-from teamenv.config import PerceptionConfig
+from teamenv.config import PerceptionConfig, PhysicsConfig
 from teamenv.errors import TeamLoadError
 from teamenv.field import FieldSpec
 
@@ -62,6 +62,25 @@ class TeamContext:
     vision: str | None = None
     landmark_kind: str | None = None
     extra: Mapping[str, Any] = field(default_factory=dict)
+
+
+def team_context(side: str, team_size: int, field: FieldSpec, profile: Any,
+                 physics: PhysicsConfig, channel: str, observation_mode: str,
+                 perception: PerceptionConfig | None = None,
+                 vision: str | None = None) -> TeamContext:
+    """The context the env gives team ``side``: agents ``{side}_1`` ..., the walk range and
+    kick reach of locomotion ``profile``, the cycle and ball drag of ``physics``, and in
+    ``vision`` mode the camera ``perception`` (``vision`` its profile name)."""
+    return TeamContext(side=side, agents=tuple(f"{side}_{k + 1}" for k in range(team_size)),
+                       team_size=team_size, field=field, cycle_s=physics.cycle_s,
+                       channel=channel, observation_mode=observation_mode, seed=0,
+                       walk_low=tuple(float(v) for v in profile.command_low),
+                       walk_high=tuple(float(v) for v in profile.command_high),
+                       kick_reach=float(profile.kick_reach),
+                       ball_linear_drag=physics.ball_linear_drag,
+                       ball_rolling_decel=physics.ball_rolling_decel,
+                       perception=perception, vision=vision,
+                       landmark_kind=None if perception is None else perception.landmark_kind)
 
 
 @runtime_checkable

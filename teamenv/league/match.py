@@ -25,10 +25,12 @@ from typing import Any
 import numpy as np
 
 from teamenv.actions import ActionParser
+from teamenv.env import team_seeds
 from teamenv.errors import ActionError, ConfigError, TeamFault
 from teamenv.match import Goal, MatchOptions, MatchResult
 from teamenv.sim.simulation import Commands
 from teamenv.teams import TeamContext, make_team, team_version
+from teamenv.teams import team_context as env_team_context
 from teamenv.tournament.spec import parse_team_spec
 
 from . import effectors
@@ -107,23 +109,9 @@ def team_context(side: str, team_size: int) -> TeamContext:
     from teamenv.config import VISION_PROFILES, PhysicsConfig
     from teamenv.field import field_preset
 
-    profile = load_profile(LOCOMOTION_PROFILE)
-    physics = PhysicsConfig()
-    return TeamContext(
-        side=side, agents=tuple(f"{side}_{k + 1}" for k in range(team_size)),
-        team_size=team_size, field=field_preset(FIELD), cycle_s=CYCLE_S, channel="mj",
-        observation_mode="vision", seed=0,
-        walk_low=tuple(float(v) for v in profile.command_low),
-        walk_high=tuple(float(v) for v in profile.command_high),
-        kick_reach=float(profile.kick_reach), ball_linear_drag=physics.ball_linear_drag,
-        ball_rolling_decel=physics.ball_rolling_decel, perception=VISION_PROFILES["mj"],
-        vision="mj", landmark_kind="mj")
-
-
-def team_seeds(seed: int) -> tuple[int, int]:
-    """The seeds the env gives the left and right team for match seed ``seed``."""
-    _, left, right, *_ = np.random.SeedSequence(seed).spawn(6)
-    return int(left.generate_state(1)[0]), int(right.generate_state(1)[0])
+    return env_team_context(side, team_size, field_preset(FIELD),
+                            load_profile(LOCOMOTION_PROFILE), PhysicsConfig(), "mj", "vision",
+                            VISION_PROFILES["mj"], "mj")
 
 
 @dataclass
