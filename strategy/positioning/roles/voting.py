@@ -35,6 +35,8 @@ DEFAULT_MAX_AGE_CYCLES = 60
 listener hear one teammate every 2 cycles, so 10 talking teammates are heard every ~20 cycles."""
 
 _EXACT_MAX_N = 12
+#: the cycle of something that never happened (far older than any age limit, no overflow)
+_NEVER = np.iinfo(np.int64).min // 2
 _WEIGHTS: dict[int, tuple[float, NDArray[np.float64]]] = {}
 
 
@@ -150,16 +152,16 @@ class RoleVoter:
         self.me = int(me)
         self.max_age_cycles = int(max_age_cycles)
         self._vectors = np.zeros((self.n, self.n), dtype=np.intp)
-        self._cycle = np.full(self.n, np.iinfo(np.int64).min // 2, dtype=np.int64)
+        self._cycle = np.full(self.n, _NEVER, dtype=np.int64)
         self._last_key = b""
         self._last_result = np.arange(self.n, dtype=np.intp)
-        self._own_changed = np.iinfo(np.int64).min // 2
+        self._own_changed = _NEVER
 
     def reset(self) -> None:
         """Forget everything heard (new episode)."""
-        self._cycle[:] = np.iinfo(np.int64).min // 2
+        self._cycle[:] = _NEVER
         self._last_key = b""
-        self._own_changed = np.iinfo(np.int64).min // 2
+        self._own_changed = _NEVER
 
     def hear(self, speaker: int, vector: ArrayLike, cycle: int, validate: bool = True) -> None:
         """Record ``speaker``'s role vector, heard at ``cycle`` (it replaces an older one).
