@@ -20,7 +20,21 @@ The file format (``MLP_FORMAT``, torch-free, numpy only), an ``.npz`` with:
 - optional ``obs_mean``, ``obs_std`` (observation_size,): the input is
   ``(obs - obs_mean) / obs_std`` (SB3 VecNormalize: ``std = sqrt(var + eps)``), then clipped
   to +-``obs_clip`` when that is given;
-- optional ``team_size`` (what it was trained with; informative, the size check is exact).
+- optional ``team_size`` (what it was trained with; informative, the size check is exact);
+- optional ``kick_gate_m`` (state mode only): on every row whose observation puts the ball
+  farther than this from the player (``ball.rel_x``, ``ball.rel_y``), the kick power is set
+  to 0 (no kick). A kick request starts the kick motion whether or not the ball is in reach
+  (the player stands still for the kick's duration, and the kick moves the ball only if it is
+  in reach when it fires), so a policy that asks for a kick every cycle never walks; with the
+  gate it kicks when the ball is in reach, as the chaser does (``gate_kicks``);
+- optional ``walk_to_ball`` (bool, needs ``kick_gate_m``): the walk entries are replaced by
+  a walk at the ball (``approach_ball``: forward when it is within 0.6 rad of the heading,
+  turning towards it) while the ball is farther than ``kick_gate_m``, and by standing still
+  within it; the network then chooses only the kick (power, direction);
+- optional ``action_repeat`` (int >= 1, default 1): the ``policy`` team runs the network every
+  ``action_repeat``-th cycle of an episode (the first included) and repeats its output in
+  between, as a policy trained with that frame skip acts; the kick gate is applied every
+  cycle to the current observation.
 """
 
 from __future__ import annotations
@@ -37,6 +51,7 @@ from teamenv.errors import ConfigError
 from teamenv.field import FieldSpec
 from teamenv.sim.perception import N_PLAY_MODES, flat_observation_size
 from teamenv.sim.vision import VisionLayout, vision_layout
+from teamenv.slots import SELF_COLUMNS
 from teamenv.teams import TeamContext
 
 MLP_FORMAT = "teamenv-mlp-v1"
@@ -47,6 +62,48 @@ ACTIVATIONS: dict[str, Callable[[np.ndarray], np.ndarray]] = {
 }
 
 PolicyFn = Callable[[np.ndarray], np.ndarray]
+
+#: Columns of the ball's position relative to the player (body frame) in a state-mode Box
+#: observation: right after the 7 ``self`` values (``teamenv.slots``).
+_BALL_REL = slice(len(SELF_COLUMNS), len(SELF_COLUMNS) + 2)
+
+
+def gate_kicks(obs_batch: np.ndarray, actions: np.ndarray, gate_m: float) -> np.ndarray:
+    """``actions`` (Box, one row per agent) with the kick power (entry 3) set to 0 on rows
+    whose state-mode observation puts the ball farther than ``gate_m`` metres away."""
+    rel = np.asarray(obs_batch, dtype=np.float64)[:, _BALL_REL]
+    far = np.hypot(rel[:, 0], rel[:, 1]) > gate_m
+    if far.any():
+        actions = actions.copy()
+        actions[far, 3] = 0.0
+    return actions
+
+
+
+def approach_ball(obs_batch: np.ndarray, actions: np.ndarray, gate_m: float) -> np.ndarray:
+    """``actions`` with the walk entries (0-2, Box units) replaced: towards the ball (turn
+    rate 2 x its bearing, clipped; full speed ahead when the bearing is within 0.6 rad, 0.2
+    otherwise) on rows whose state-mode observation puts the ball farther than ``gate_m``,
+    zero (stand for the kick) on the others."""
+    rel = np.asarray(obs_batch, dtype=np.float64)[:, _BALL_REL]
+    bearing = np.arctan2(rel[:, 1], rel[:, 0])
+    far = np.hypot(rel[:, 0], rel[:, 1]) > gate_m
+    actions = actions.copy()
+    actions[:, 0] = np.where(far, np.where(np.abs(bearing) < 0.6, 1.0, 0.2), 0.0)
+    actions[:, 1] = 0.0
+    actions[:, 2] = np.where(far, np.clip(2.0 * bearing, -1.0, 1.0), 0.0)
+    return actions
+
+
+def apply_reflexes(obs_batch: np.ndarray, actions: np.ndarray, kick_gate_m: float | None,
+                   walk_to_ball: bool) -> np.ndarray:
+    """A policy file's reflexes on ``actions``: the walk at the ball (``walk_to_ball``), then
+    the kick gate (``kick_gate_m``; None: neither)."""
+    if kick_gate_m is None:
+        return actions
+    if walk_to_ball:
+        actions = approach_ball(obs_batch, actions, kick_gate_m)
+    return gate_kicks(obs_batch, actions, kick_gate_m)
 
 
 class PolicyFileError(ConfigError):
@@ -63,7 +120,9 @@ class MLPPolicy:
                  activation: str = "tanh", output_activation: str = "identity",
                  observation_mode: str = "state", obs_mean: np.ndarray | None = None,
                  obs_std: np.ndarray | None = None, obs_clip: float | None = None,
-                 team_size: int | None = None, source: str = "MLPPolicy") -> None:
+                 team_size: int | None = None, kick_gate_m: float | None = None,
+                 walk_to_ball: bool = False, action_repeat: int = 1,
+                 source: str = "MLPPolicy") -> None:
         def fail(why: str) -> PolicyFileError:
             return PolicyFileError(f"policy {source}: {why}")
 
@@ -108,9 +167,33 @@ class MLPPolicy:
         if obs_clip is not None and not (math.isfinite(obs_clip) and obs_clip > 0):
             raise fail(f"obs_clip: must be a finite number > 0, got {obs_clip!r}")
         self.obs_clip = None if obs_clip is None else float(obs_clip)
+        if kick_gate_m is not None:
+            if observation_mode != "state":
+                raise fail("kick_gate_m: only for observation_mode 'state' (it reads the "
+                           "ball's relative position)")
+            if not (math.isfinite(kick_gate_m) and kick_gate_m > 0):
+                raise fail(f"kick_gate_m: must be a finite number > 0, got {kick_gate_m!r}")
+        self.kick_gate_m = None if kick_gate_m is None else float(kick_gate_m)
+        if walk_to_ball and kick_gate_m is None:
+            raise fail("walk_to_ball: needs kick_gate_m (where the walk stops for the kick)")
+        self.walk_to_ball = bool(walk_to_ball)
+        if isinstance(action_repeat, bool) or int(action_repeat) != action_repeat or \
+                action_repeat < 1:
+            raise fail(f"action_repeat: must be an integer >= 1, got {action_repeat!r}")
+        self.action_repeat = int(action_repeat)
         self.source = source
 
     def __call__(self, obs_batch: np.ndarray) -> np.ndarray:
+        """The actions for ``obs_batch``: the network's output, kick-gated."""
+        return self.gate(obs_batch, self.network_actions(obs_batch))
+
+    def gate(self, obs_batch: np.ndarray, actions: np.ndarray) -> np.ndarray:
+        """``actions`` with the file's kick gate (and walk to the ball) applied for
+        ``obs_batch``, if it has them."""
+        return apply_reflexes(obs_batch, actions, self.kick_gate_m, self.walk_to_ball)
+
+    def network_actions(self, obs_batch: np.ndarray) -> np.ndarray:
+        """The network's output for ``obs_batch``, clipped to [-1, 1] (no gate)."""
         x = np.asarray(obs_batch, dtype=np.float32)
         if x.ndim != 2 or x.shape[1] != self.observation_size:
             raise PolicyFileError(f"policy {self.source}: observations of shape {x.shape}, "
@@ -132,12 +215,15 @@ def save_mlp_policy(path: str | Path, layers: Sequence[tuple[np.ndarray, np.ndar
                     activation: str = "tanh", output_activation: str = "identity",
                     observation_mode: str = "state", obs_mean: np.ndarray | None = None,
                     obs_std: np.ndarray | None = None, obs_clip: float | None = None,
-                    team_size: int | None = None) -> Path:
+                    team_size: int | None = None, kick_gate_m: float | None = None,
+                    walk_to_ball: bool = False, action_repeat: int = 1) -> Path:
     """Write an MLP policy file (format ``MLP_FORMAT``); checks it as ``load_policy`` would.
     ``layers``: (W (in, out), b (out,)) pairs, input layer first. Returns the path."""
     policy = MLPPolicy(layers, activation=activation, output_activation=output_activation,
                        observation_mode=observation_mode, obs_mean=obs_mean, obs_std=obs_std,
-                       obs_clip=obs_clip, team_size=team_size, source=str(path))
+                       obs_clip=obs_clip, team_size=team_size, kick_gate_m=kick_gate_m,
+                       walk_to_ball=walk_to_ball, action_repeat=action_repeat,
+                       source=str(path))
     arrays: dict[str, Any] = {
         "format": np.array(MLP_FORMAT), "n_layers": np.array(len(policy.layers)),
         "activation": np.array(activation), "output_activation": np.array(output_activation),
@@ -147,7 +233,10 @@ def save_mlp_policy(path: str | Path, layers: Sequence[tuple[np.ndarray, np.ndar
     for k, (w, b) in enumerate(policy.layers):
         arrays[f"W{k}"], arrays[f"b{k}"] = w, b
     for name, value in (("obs_mean", policy.obs_mean), ("obs_std", policy.obs_std),
-                        ("obs_clip", obs_clip), ("team_size", team_size)):
+                        ("obs_clip", obs_clip), ("team_size", team_size),
+                        ("kick_gate_m", kick_gate_m),
+                        ("walk_to_ball", walk_to_ball or None),
+                        ("action_repeat", None if action_repeat == 1 else action_repeat)):
         if value is not None:
             arrays[name] = np.asarray(value)
     path = Path(path)
@@ -191,6 +280,9 @@ def load_policy(path: str | Path) -> MLPPolicy:
             observation_mode=text("observation_mode", "state"),
             obs_clip=float(data["obs_clip"]) if "obs_clip" in data else None,
             team_size=int(data["team_size"]) if "team_size" in data else None,
+            kick_gate_m=float(data["kick_gate_m"]) if "kick_gate_m" in data else None,
+            walk_to_ball=bool(data["walk_to_ball"]) if "walk_to_ball" in data else False,
+            action_repeat=int(data["action_repeat"]) if "action_repeat" in data else 1,
             source=repr(str(path)), **optional)
         if "observation_size" in data and \
                 int(data["observation_size"]) != policy.observation_size:
@@ -279,15 +371,28 @@ class PolicyTeam:
                 f"env gives {self.observation_size} (team_size {context.team_size}, "
                 f"{context.observation_mode} mode, {context.channel} channel)")
 
+        self.action_repeat = int(getattr(policy, "action_repeat", 1))
+        self._cycle = 0
+        self._held: np.ndarray | None = None
+
     def reset(self, seed: int) -> None:
-        """A frozen policy keeps no state between episodes (and draws no random numbers)."""
+        """A frozen policy draws no random numbers; a new episode restarts its repeat count."""
+        self._cycle = 0
+        self._held = None
 
     def act(self, observations: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[str, Any]]:
         agents = list(observations)
         if not agents:
             return {}
         batch = np.stack([flatten_observation(observations[a]) for a in agents])
-        actions = np.asarray(self.policy(batch), dtype=float)
+        if self.action_repeat == 1:
+            actions = np.asarray(self.policy(batch), dtype=float)
+        else:  # an MLPPolicy with a frame skip: the network every k-th cycle, gated each cycle
+            if self._cycle % self.action_repeat == 0 or self._held is None or \
+                    len(self._held) != len(agents):
+                self._held = np.asarray(self.policy.network_actions(batch), dtype=float)
+            self._cycle += 1
+            actions = np.asarray(self.policy.gate(batch, self._held), dtype=float)
         if actions.shape != (len(agents), BOX_SIZE) or not np.isfinite(actions).all():
             raise PolicyFileError(f"policy team ({self.context.side}): the policy returned "
                                   f"{actions.shape} (finite: {np.isfinite(actions).all()}), "

@@ -159,6 +159,13 @@ SCENARIOS: dict[str, Scenario] = {s.name: s for s in (
         ball=None, ball_with=0, play_mode="PlayOn",
         end_on=frozenset({"goal", "ball_out", "defender_possession"}), max_duration_s=30.0),
     Scenario(
+        name="keep_away",
+        description="keep-away: one player with the ball on the centre spot keeps it from an "
+                    "opponent who starts 4 m behind it and chases the ball, for 20 s",
+        field="simspark", team_sizes=(1, 1), left=(Spot(15.0),),
+        right=(Spot(19.0, 0.0, 0.0),), ball=None, ball_with=0, play_mode="PlayOn",
+        end_on=frozenset({"goal", "ball_out", "defender_possession"}), max_duration_s=20.0),
+    Scenario(
         name="corner_kick",
         description="a corner kick for the left team from the +y corner of the goal it "
                     "attacks: keeper, taker (left_2) and three attackers in front of goal "

@@ -178,3 +178,55 @@ def test_self_play_and_policy_opponent_pass_pettingzoo_api(tmp_path):
                       observation_format="box", action_format="box")):
         parallel_api_test(teamenv.parallel_env(max_cycles=100, **opts), num_cycles=120)
         api_test(teamenv.env(max_cycles=40, **opts), num_cycles=50)
+
+
+def _ball_at(obs_size: int, rel_xy) -> np.ndarray:
+    """State-mode Box rows with the ball at ``rel_xy`` (body frame) and zeros elsewhere."""
+    obs = np.zeros((len(rel_xy), obs_size), np.float32)
+    obs[:, 7:9] = rel_xy  # ball.rel_x, ball.rel_y (teamenv.slots)
+    return obs
+
+
+def test_kick_gate_walk_to_ball_and_action_repeat_round_trip_and_act(tmp_path):
+    size = _obs_size(team_size=1)
+    # a network that always asks for a full-power kick straight ahead and walks backwards
+    out_bias = np.array([-1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0])
+    layers = [(np.zeros((size, 4)), np.zeros(4)), (np.zeros((4, 9)), out_bias)]
+    path = save_mlp_policy(tmp_path / "g.npz", layers, kick_gate_m=0.3, walk_to_ball=True,
+                           action_repeat=5)
+    policy = load_policy(path)
+    assert (policy.kick_gate_m, policy.walk_to_ball, policy.action_repeat) == (0.3, True, 5)
+    obs = _ball_at(size, [[0.2, 0.0], [3.0, 0.0], [0.0, 3.0], [-3.0, 0.1]])
+    acts = policy(obs)
+    assert acts[0, 3] == 1.0 and (acts[1:, 3] == 0.0).all()  # kick only within the gate
+    assert (acts[0, :3] == 0.0).all()  # stands for the kick
+    assert acts[1, 0] == 1.0 and acts[1, 2] == 0.0  # ball ahead: full speed, no turn
+    assert acts[2, 2] == 1.0 and acts[2, 0] == pytest.approx(0.2)  # ball to the left: turn
+    assert acts[3, 2] > 0.9  # ball behind, a little to the left: turn left
+    assert np.array_equal(policy.network_actions(obs), np.tile(out_bias, (4, 1)))
+    # the gate alone leaves the network's walk as it is
+    gated = load_policy(save_mlp_policy(tmp_path / "k.npz", layers, kick_gate_m=0.3))
+    assert np.array_equal(gated(obs)[:, :3], np.tile(out_bias[:3], (4, 1)))
+    assert (gated(obs)[1:, 3] == 0.0).all() and gated.action_repeat == 1
+    for bad, match in (({"walk_to_ball": True}, "needs kick_gate_m"),
+                       ({"kick_gate_m": -1.0}, "kick_gate_m"),
+                       ({"kick_gate_m": 0.3, "action_repeat": 0}, "action_repeat"),
+                       ({"kick_gate_m": 0.3, "observation_mode": "vision"}, "only for")):
+        with pytest.raises(PolicyFileError, match=match):
+            MLPPolicy(layers, **bad)
+
+
+def test_the_policy_team_runs_the_network_every_action_repeat_cycles(tmp_path):
+    size = _obs_size(team_size=1)
+    layers = [(np.zeros((size, 4)), np.zeros(4)), (np.zeros((4, 9)), np.zeros(9))]
+    policy = MLPPolicy(layers, kick_gate_m=0.3, walk_to_ball=True, action_repeat=3)
+    calls = []
+    network = policy.network_actions
+    policy.network_actions = lambda batch: calls.append(len(calls)) or network(batch)
+    env = teamenv.parallel_env(scenario="keep_away", right="policy",
+                               right_config={"policy": policy}, left="chaser")
+    for seed in (0, 1):
+        env.reset(seed=seed)
+        for _ in range(7):
+            env.step({})
+        assert len(calls) == 3 * (seed + 1)  # cycles 0, 3, 6 of each episode
