@@ -30,20 +30,18 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-PLAYED: dict[str, Any] = {}
-
 
 def play(replay_dir: Path, left: str, right: str, seed: int, observation: str,
-         half_time: float) -> tuple[Path, Path]:
-    """The replay with and without extras (played when missing; the play's time goes to
-    ``PLAYED``)."""
+         half_time: float) -> tuple[Path, Path, dict[str, Any] | None]:
+    """The replay with and without extras, and how long playing it took (cycles, wall and CPU
+    seconds; None when both files were there already and nothing was played)."""
     import teamenv
     from teamenv.replay import ReplayRecorder
 
     stem = f"{left}-{right}-{seed}-{observation}-{half_time:g}"
     with_extras, plain = replay_dir / f"{stem}-extras.npz", replay_dir / f"{stem}.npz"
     if with_extras.exists() and plain.exists():
-        return with_extras, plain
+        return with_extras, plain, None
     env = teamenv.parallel_env(left=left, right=right, field="simspark", team_size=11,
                                observation_mode=observation, profile_phases=False,
                                rules={"half_time_s": half_time})
@@ -54,15 +52,15 @@ def play(replay_dir: Path, left: str, right: str, seed: int, observation: str,
     while not env.episode_over:
         env.step({})
         recorder.record()
-    PLAYED.update(cycles=int(env.sim.cycle), wall_s=time.perf_counter() - start,
-                  cpu_s=time.process_time() - cpu)
-    print(f"played {env.sim.cycle} cycles in {PLAYED['wall_s']:.0f} s wall "
-          f"({PLAYED['cpu_s']:.0f} s CPU)")
+    played = {"cycles": int(env.sim.cycle), "wall_s": time.perf_counter() - start,
+              "cpu_s": time.process_time() - cpu}
+    print(f"played {env.sim.cycle} cycles in {played['wall_s']:.0f} s wall "
+          f"({played['cpu_s']:.0f} s CPU)")
     meta = {"left": left, "right": right, "seed": seed}
     recorder.save(with_extras, meta)
     recorder.extras = False  # the same match, written without the extras
     recorder.save(plain, meta)
-    return with_extras, plain
+    return with_extras, plain, played
 
 
 def tiled(path: Path, times: int, out: Path) -> Path:
@@ -150,12 +148,12 @@ def main(argv: Sequence[str] | None = None) -> None:
         runs = [("replay", args.replay)]
     else:
         args.replay_dir.mkdir(parents=True, exist_ok=True)
-        with_extras, plain = play(args.replay_dir, args.left, args.right, args.seed,
-                                  args.observation, args.half_time)
+        with_extras, plain, played = play(args.replay_dir, args.left, args.right, args.seed,
+                                          args.observation, args.half_time)
         out = {"match": f"{args.left} vs {args.right}, simspark 11 v 11, 2 x "
                         f"{args.half_time:g} s, seed {args.seed}, {args.observation} mode"}
-        if PLAYED:
-            out["played"] = dict(PLAYED)
+        if played:
+            out["played"] = played
         runs = [("plain", plain), ("extras", with_extras)]
     out["xg_model"] = model.fitted.get("data", "")
     if args.tile > 1:
