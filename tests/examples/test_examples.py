@@ -91,12 +91,14 @@ def test_rllib_policy_mapping_shares_or_splits_by_team():
         "left_team", "left_team", "right_team", "right_team"]
 
 
-def test_train_scenario_policy_exports_a_policy_the_policy_team_plays(tmp_path):
+@pytest.mark.parametrize("scenario", ["keep_away", "one_v_goalie"])
+def test_train_scenario_policy_exports_a_policy_the_policy_team_plays(tmp_path, scenario):
     pytest.importorskip("stable_baselines3", reason="needs the rl extra: pip install 'teamenv[rl]'")
     from teamenv.policy_team import load_policy
 
     paths = {name: tmp_path / name for name in ("policy.npz", "report.json", "curve.png")}
-    stdout = run_example("train_scenario_policy.py", "--policy", str(paths["policy.npz"]),
+    stdout = run_example("train_scenario_policy.py", "--scenario", scenario,
+                         "--policy", str(paths["policy.npz"]),
                          "--report", str(paths["report.json"]), "--plot", str(paths["curve.png"]))
     assert "learned" in stdout and "chaser" in stdout
     report = json.loads(paths["report.json"].read_text())
@@ -105,6 +107,12 @@ def test_train_scenario_policy_exports_a_policy_the_policy_team_plays(tmp_path):
         low, high = result["win_rate_95ci_wilson"]
         assert 0.0 <= low <= result["win_rate"] <= high <= 1.0
     assert report["evaluation_seeds"][0] >= 100_000  # held-out seeds, never trained on
+    assert report["scenario"] == scenario
+    assert set(report["baselines"]) == {"chaser", "untrained", "random"} | \
+        ({"reference"} if scenario == "keep_away" else set())
     policy = load_policy(paths["policy.npz"])
     assert policy(np.zeros((3, policy.observation_size), np.float32)).shape == (3, 9)
+    # keep_away's file carries the reflexes it was trained with; one_v_goalie's has none
+    assert (policy.walk_to_ball, policy.action_repeat) == \
+        ((True, 5) if scenario == "keep_away" else (False, 1))
     assert paths["curve.png"].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
