@@ -1,23 +1,29 @@
 """A round robin on the league server, stored as one tournament (``teamenv league-tournament``).
 
 The schedule is the tournament module's own (``teamenv.tournament.round_robin``: every pair,
-``games`` seeded rounds, each once with either team on the left), so the stored tournament
-reads like any other (``teamenv tournament table``, ``benchmarks/fidelity_ranking.py``).
-Matches are played one after another, each on a fresh server (``play_league_match``), and
-stored as each ends; ``resume`` plays only what is missing. A team that raises stops the run
-with its ``TeamFault`` (the match is not stored; a resume plays it again)."""
+``games`` seeded rounds, each once with either team on the left), and the run is the tournament
+module's too (``teamenv.tournament.run_tournament``: create or resume, the definition and team
+versions checked, each match stored as it ends), with ``LeagueBackend`` playing each task on a
+fresh server (``play_league_match``), one after another. So the stored tournament reads like
+any other (``teamenv tournament table``, ``benchmarks/fidelity_ranking.py``). A team that
+raises stops the run with its ``TeamFault`` (the match is not stored; a resume plays it again).
+"""
 
 from __future__ import annotations
 
-import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from teamenv.match import MatchResult
 
 from .errors import LeagueError
 from .match import LeagueMatchOptions, play_league_match
+
+if TYPE_CHECKING:  # the tournament module is imported when a tournament runs
+    from teamenv.tournament.backends import Outcome
+    from teamenv.tournament.schedule import MatchTask
 
 
 @dataclass(frozen=True)
@@ -37,58 +43,62 @@ def league_round_robin(name: str, teams: Sequence[str], options: LeagueMatchOpti
                        options=options.match_options())
 
 
+class LeagueBackend:
+    """A tournament backend (``teamenv.tournament.run_tournament(backend=...)``) that plays each
+    task on the league server, one after another in this process: ``play(left, right,
+    options, seed, log_dir)`` (default ``play_league_match``) with the task's team labels and
+    seed and league options made from the task's (team size, the half's length as the game).
+    ``on_match(k, n, result)`` after the k-th of the n matches of this run is stored."""
+
+    name = "league"
+    workers = 1
+
+    def __init__(self, play: Callable[..., MatchResult] | None = None,
+                 log_dir: str | Path | None = None,
+                 on_match: Callable[[int, int, MatchResult], None] | None = None) -> None:
+        self.play = play or play_league_match
+        self.log_dir = log_dir
+        self.on_match = on_match
+
+    def run(self, tasks: Sequence[MatchTask]) -> Iterator[Outcome]:
+        from teamenv.tournament.backends import Outcome
+
+        for k, task in enumerate(tasks, 1):
+            options = LeagueMatchOptions(team_size=task.options.team_size,
+                                         game_s=task.options.half_time_s)
+            result = self.play(task.left.label, task.right.label, options, seed=task.seed,
+                               log_dir=self.log_dir)
+            yield Outcome(task, result)
+            # resumed after the tournament runner stored the match
+            if self.on_match is not None:
+                self.on_match(k, len(tasks), result)
+
+
 def run_league_tournament(
     name: str, db: str | Path, teams: Sequence[str] | None = None,
     options: LeagueMatchOptions | None = None, games: int = 1, seed: int = 0,
     resume: bool = False, log_dir: str | Path | None = None,
     on_match: Callable[[int, int, MatchResult], None] | None = None,
-    play: Callable[..., MatchResult] | None = None,
+    play: Callable[..., MatchResult] | None = None, progress: bool = False,
 ) -> LeagueTournamentSummary:
     """Play (or, with ``resume``, finish) league round robin ``name`` in ``db``.
 
     A new run needs ``teams`` and ``options``; a resume reads the stored definition (teams,
-    options, games and seed given with it must match it). ``on_match(done, total, result)``
-    after each stored match; ``play`` is the match function (default ``play_league_match``;
-    tests pass a stand-in)."""
-    from teamenv.tournament import ResultStore
+    options, games and seed given with it must match it). ``on_match(k, n, result)`` after the
+    k-th stored match of the n this run plays; ``play`` is the match function (default
+    ``play_league_match``; tests pass a stand-in); ``progress``: the tournament runner's live
+    table. The database errors (a name that exists, nothing to resume, a definition that
+    differs) are the tournament module's ``StoreError``."""
+    from teamenv.tournament import run_tournament
 
-    play = play or play_league_match
-    start = time.monotonic()
-    with ResultStore(db) as store:
-        found = store.find_tournament(name)
-        if resume:
-            if found is None:
-                raise LeagueError(f"database {str(db)!r}: no tournament {name!r} to resume")
-            tid, tournament = found
-            if teams is not None and options is not None:
-                want = league_round_robin(name, teams, options, games, seed)
-                if want.definition_hash() != tournament.definition_hash():
-                    raise LeagueError(f"tournament {name!r}: the stored definition differs from "
-                                      "the one given; resume with the same teams and options")
-        else:
-            if found is not None:
-                raise LeagueError(f"database {str(db)!r}: tournament {name!r} already exists; "
-                                  "resume it (--resume) or choose another name")
-            if teams is None or options is None:
-                raise LeagueError("a new league tournament needs its teams and options")
-            tournament = league_round_robin(name, teams, options, games, seed)
-            from teamenv.teams import team_version
-
-            tid = store.create_tournament(tournament, {t.label: team_version(t.name)
-                                                       for t in tournament.all_teams})
-        done = store.completed_indices(tid)
-    mo = tournament.options
-    match_options = LeagueMatchOptions(team_size=mo.team_size, game_s=mo.half_time_s)
-    schedule = tournament.schedule()
-    todo = [task for task in schedule if task.index not in done]
-    played = 0
-    for task in todo:
-        result = play(task.left.label, task.right.label, match_options, seed=task.seed,
-                      log_dir=log_dir)
-        with ResultStore(db) as store:
-            store.record_match(tid, task, result)
-        played += 1
-        if on_match is not None:
-            on_match(len(done) + played, len(schedule), result)
-    return LeagueTournamentSummary(len(schedule), played, len(schedule) - len(todo),
-                                   time.monotonic() - start)
+    if (teams is None) != (options is None):
+        raise LeagueError("give both the teams and the options (or neither, to resume)")
+    if teams is None and not resume:
+        raise LeagueError("a new league tournament needs its teams and options")
+    tournament = None if teams is None else league_round_robin(name, teams, options, games,
+                                                                seed)
+    summary = run_tournament(tournament, db, name=name, resume=resume,
+                             backend=LeagueBackend(play, log_dir, on_match),
+                             progress=progress, stats=False)
+    return LeagueTournamentSummary(summary.scheduled, summary.played, summary.skipped,
+                                   summary.wall_s)

@@ -8,11 +8,12 @@ from __future__ import annotations
 import pytest
 
 from teamenv.cli import main
+from teamenv.errors import TeamFault
 from teamenv.league import tournament as lt
 from teamenv.league.errors import LeagueError
 from teamenv.league.match import LeagueMatchOptions
 from teamenv.match import Goal, MatchResult
-from teamenv.tournament import ResultStore
+from teamenv.tournament import ResultStore, StoreError
 from teamenv.tournament.table import league_table
 
 TEAMS = ["chaser", "static", "full:communicate=false"]
@@ -63,16 +64,37 @@ def test_round_robin_is_played_stored_and_resumed(tmp_path):
 
 def test_errors_are_named(tmp_path):
     db = tmp_path / "league.sqlite"
-    with pytest.raises(LeagueError, match="no tournament 'rr' to resume"):
+    with pytest.raises(StoreError, match="no tournament 'rr' to resume"):
         lt.run_league_tournament("rr", db, resume=True, play=FakePlay())
     lt.run_league_tournament("rr", db, TEAMS[:2], OPTS, play=FakePlay())
-    with pytest.raises(LeagueError, match="tournament 'rr' already exists"):
+    with pytest.raises(StoreError, match="tournament 'rr' already exists"):
         lt.run_league_tournament("rr", db, TEAMS[:2], OPTS, play=FakePlay())
-    with pytest.raises(LeagueError, match="stored definition differs"):
+    with pytest.raises(StoreError, match="definition"):
         lt.run_league_tournament("rr", db, TEAMS[:2], LeagueMatchOptions(team_size=3),
                                  resume=True, play=FakePlay())
     with pytest.raises(LeagueError, match="needs its teams and options"):
         lt.run_league_tournament("new", db, None, None, play=FakePlay())
+    with pytest.raises(LeagueError, match="give both the teams and the options"):
+        lt.run_league_tournament("new", db, TEAMS[:2], None, play=FakePlay())
+
+
+def test_a_team_fault_stops_the_run_and_the_match_is_played_again_on_resume(tmp_path):
+    db = tmp_path / "league.sqlite"
+
+    class FaultOnSecond(FakePlay):
+        def __call__(self, left, right, options, seed, log_dir=None):
+            if len(self.calls) == 1:
+                raise TeamFault("left", "raised", "team 'static' (agents left_1): act() raised")
+            return super().__call__(left, right, options, seed, log_dir)
+
+    with pytest.raises(TeamFault, match="act\\(\\) raised"):
+        lt.run_league_tournament("rr", db, TEAMS[:2], OPTS, play=FaultOnSecond())
+    with ResultStore(db) as store:
+        tid, _ = store.get_tournament("rr")
+        assert len(store.matches(tid)) == 1 and store.failures(tid) == []
+    again = FakePlay()
+    assert lt.run_league_tournament("rr", db, resume=True, play=again).played == 1
+    assert len(again.calls) == 1
 
 
 def test_cli(tmp_path, monkeypatch, capsys):
