@@ -236,6 +236,7 @@ class LipmWalker:
         }
         com = np.array([x, y]) + R @ self.com_off
         self.state = np.array([[com[0], 0, 0], [com[1], 0, 0]], dtype=float)  # per axis c, c', c''
+        self.origin = np.array([x, y], dtype=float)  # frame of the preview law (see update)
         self.err = np.zeros(2)
         self.swing = "Left"
         self.t_step = -0.5  # stand 0.5 s (ZMP at the centre) before the first step
@@ -360,11 +361,17 @@ class LipmWalker:
             self._feedback_step(obs)
         zref = self._zmp_ref()
         for ax in range(2):
-            x = self.state[ax]
+            # the preview law is not translation-invariant (its truncated preview gains leave a
+            # bias of (Kx[0] + sum Gd[1:]) x position), so it runs in the frame of the point
+            # where the walk started: a walk begun at (-5, 0) behaves as one begun at (0, 0)
+            o = self.origin[ax]
+            x = self.state[ax].copy()
+            x[0] -= o
             zmp = (self.C @ x)[0]
-            self.err[ax] += zmp - zref[0, ax]
-            u = -self.Ki * self.err[ax] - self.Kx @ x - self.Gd[1:] @ zref[1:, ax]
+            self.err[ax] += zmp - (zref[0, ax] - o)
+            u = -self.Ki * self.err[ax] - self.Kx @ x - self.Gd[1:] @ (zref[1:, ax] - o)
             self.state[ax] = self.A @ x + self.B[:, 0] * u
+            self.state[ax, 0] += o
         self.t_step += p.dt
         com = self.state[:, 0]
         if self.t_step <= 0:

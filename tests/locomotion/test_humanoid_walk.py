@@ -86,3 +86,39 @@ def test_shipped_lipm_profile_is_humanoid_measured() -> None:
     assert p.kinds["envelope_vx_forward"] == "measured-humanoid"
     t1_mj = load_profile("t1_mj")
     assert t1_mj.kinds["tracking_vx"] == "measured"  # the server's numbers stay in t1_mj
+
+
+def test_walker_started_away_from_the_origin_walks_as_at_the_origin(t1) -> None:
+    """The preview law once ran in world coordinates; its bias grows with the distance from
+    (0, 0), so a walker reset at (-5, 0) (where the league server beams a player) fell within
+    ~1 s. It now runs in the frame of the pose it was reset at."""
+    import dataclasses
+
+    import mujoco
+
+    from locomotion.humanoid.mujoco_sim import _pd, settle_mujoco
+    from locomotion.humanoid.walker import LipmWalker, Observer, WalkParams, _gains
+
+    params = WalkParams()
+
+    def walk(x0: float) -> np.ndarray:
+        q = t1.q_stance.copy()
+        q[0] = x0
+        t = _gains(dataclasses.replace(t1, q_stance=q), params)
+        data = settle_mujoco(t, 0.3)
+        walker, observe = LipmWalker(t, params), Observer(t)
+        path = []
+        for i in range(1000):  # 2 s at 2 ms
+            if i % 5 == 0:
+                obs = observe(data.qpos, data.qvel)
+                if i == 0:
+                    walker.reset(tuple(obs["pose"]))
+                path.append(obs["pose"] - [x0, 0.0, 0.0])
+                q_ref = walker.update(np.array([0.3, 0.0, 0.0]), obs)
+            _pd(t, data, q_ref)
+            mujoco.mj_step(t.model, data)
+        return np.array(path)
+
+    here, away = walk(0.0), walk(-5.0)
+    assert away[-1, 0] > 0.2 and abs(away[-1, 1]) < 0.1  # walked forward, did not fall
+    np.testing.assert_allclose(away, here, atol=2e-3)

@@ -1,0 +1,120 @@
+"""The league server's own simulation run inside this process: a fast, deterministic plant for
+tuning and testing locomotion controllers against the server's physics (needs the ``humanoid``
+extra).
+
+``LocalServer`` builds rcsssmj's ``SoccerSimulation`` exactly as ``rcssservermj`` does (rule
+book ``ssim``, its default field ``fifa7vs7``, the referee), adds players through the same
+``add_players`` call, encodes each agent's perceptions with the server's own encoder into the
+wire text and parses them with our parser, and parses our effector text with the server's own
+action parser. What it leaves out is the network and the threads. What it keeps is the timing
+of the server's parallel sync mode (the default, what ``LeagueServer`` runs): each cycle the
+server generates the perceptions, then applies the answers to the *previous* perceptions, then
+steps 4 x 5 ms; so an answer to the perception of cycle k moves the robot from cycle k+1 to
+k+2 — a one-cycle delay every controller on the real server lives with.
+
+Tested against the real server (``tests/teamenv/test_league_local_server.py``): the same
+perceptor kinds, and the same joint trajectory under the same motor commands.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .errors import LeagueError
+from .perception import Perception, parse_perception
+
+
+@dataclass(frozen=True)
+class LocalAgent:
+    """The init parameters the simulation reads (rcsssmj's ``PAgentParameter``)."""
+
+    team_name: str
+    player_no: int
+    model_name: str = "T1"
+
+
+class LocalServer:
+    """rcsssmj's simulation in this process; one ``cycle`` = one server cycle (20 ms).
+
+    ``join(team, unum)`` adds a player (the first team to join plays left); ``cycle(answers)``
+    takes every agent's answer to the perceptions returned last time (``(syn)`` if absent),
+    applies the answers of the cycle before (the parallel sync mode's delay; ``action_delay=0``
+    applies them at once, as the server's ``--sequential`` mode does), steps the world and
+    returns each agent's new perception. ``kick_off(side)`` is the monitor's ``(kickOff ...)``.
+    """
+
+    def __init__(self, rules: str = "ssim", field: str | None = None, action_delay: int = 1) -> None:
+        if action_delay not in (0, 1):
+            raise LeagueError(f"action_delay must be 0 or 1, not {action_delay!r}")
+        from locomotion.humanoid._deps import require
+
+        require("rcsssmj")
+        from rcsssmj.games.soccer.server.soccer_action_parser import SoccerActionParser
+        from rcsssmj.games.soccer.sim.soccer_referee import SoccerReferee
+        from rcsssmj.games.soccer.sim.soccer_sim import SoccerSimulation
+        from rcsssmj.games.soccer.soccer_fields import create_soccer_field
+        from rcsssmj.games.soccer.soccer_rules import create_soccer_rule_book
+        from rcsssmj.server.perception_encoder import DefaultPerceptionEncoder
+
+        try:
+            book = create_soccer_rule_book(rules)
+            pitch = create_soccer_field(field or book.default_field_version.value)
+        except Exception as exc:  # rcsssmj raises plain errors for unknown names
+            raise LeagueError(f"local server: rules {rules!r} / field {field!r}: {exc}") from None
+        self.sim = SoccerSimulation(field=pitch, rules=book, referee=SoccerReferee())
+        if not self.sim.init():
+            raise LeagueError("local server: rcsssmj failed to build the world")
+        # as LeagueServer waits for the first monitor message: a player added before the first
+        # simulation step crashes rcsssmj 0.2.1's audio engine
+        self.sim.step([])
+        self._parser = SoccerActionParser()
+        self._encoder = DefaultPerceptionEncoder()
+        self.action_delay = action_delay
+        self._agents: dict[tuple[str, int], object] = {}
+        self._pending: dict[tuple[str, int], list] = {}
+        self._commands: list = []
+        self.cycles = 0
+
+    def join(self, team: str, unum: int, model: str = "T1") -> Perception:
+        """Add a player; returns its first perception."""
+        key = (team, unum)
+        if key in self._agents:
+            raise LeagueError(f"local server: {team} {unum} has already joined")
+        agent = self.sim.add_players([LocalAgent(team, unum, model)])[0]
+        if agent is None:
+            raise LeagueError(f"local server: rcsssmj refused {team} {unum} ({model}): "
+                              "a third team, a taken number or an unknown model")
+        self._agents[key] = agent
+        self.sim.generate_perceptions()
+        return self._perceive(key)
+
+    def _perceive(self, key: tuple[str, int]) -> Perception:
+        msg = self._encoder.encode(self._agents[key].perceptions)
+        return parse_perception(bytes(msg or b"(syn)").decode("ascii"),
+                                who=f"agent {key[0]} {key[1]}")
+
+    def kick_off(self, side: str = "Left") -> None:
+        from rcsssmj.games.soccer.sim.soccer_commands import KickOffCommand
+
+        sides = {"Left": 0, "Right": 1}
+        if side not in sides:
+            raise LeagueError(f"local server: kick-off side must be Left or Right, not {side!r}")
+        self._commands.append(KickOffCommand(sides[side]))
+
+    def cycle(self, answers: dict[tuple[str, int], str] | None = None) -> dict[tuple[str, int], Perception]:
+        answers = answers or {}
+        unknown = set(answers) - set(self._agents)
+        if unknown:
+            raise LeagueError(f"local server: answers for agents that never joined: {sorted(unknown)}")
+        parsed = {key: self._parser.parse_action(answers.get(key, "(syn)").encode("ascii"),
+                                                 agent.agent_id.prefix)
+                  for key, agent in self._agents.items()}
+        apply = parsed if self.action_delay == 0 else self._pending
+        for key, agent in self._agents.items():
+            agent.set_actions(apply.get(key, []))
+        self._pending = parsed
+        commands, self._commands = self._commands, []
+        self.sim.step(commands)
+        self.cycles += 1
+        self.sim.generate_perceptions()
+        return {key: self._perceive(key) for key in self._agents}
