@@ -122,31 +122,30 @@ class RequestEncoder:
     """Requests -> one cycle's effector message for one agent, through its controller."""
 
     def __init__(self, controller: LocomotionController, who: str, channel: str = "mj",
-                 idle: str | None = None) -> None:
+                 stand_when_idle: bool = True) -> None:
         self.controller = controller
         self.who = who
-        #: sent instead of the controller's motors while the walk is (0, 0, 0) and there is
-        #: no kick (the controller is reset, so a later walk starts afresh); None: always walk
-        self.idle = idle
+        #: a zero walk without a kick sends the controller's standing targets (which resets
+        #: its walk, so a later walk starts afresh) instead of walking on the spot
+        self.stand_when_idle = stand_when_idle
         self.profile = get_profile(channel)
         if not self.profile.base64_payload:
             raise LeagueError(f"{who}: the league server needs the 'mj' channel, not {channel!r}")
 
     def encode(self, request: Request, perception: Perception) -> str:
         parts: list[str] = []
-        if request.beam is not None:
-            parts.append(effectors.beam(*request.beam))
-            self.controller.reset()
         walk = request.walk
         if request.kick is not None:
             _, direction = request.kick
             walk = (KICK_WALK_SPEED * math.cos(direction), 0.0, direction / 0.5)
-        if request.beam is None:
-            if self.idle is not None and request.kick is None and not any(walk):
-                self.controller.reset()
-                parts.append(self.idle)
-            else:
-                parts.append(self.controller.step(walk, perception))
+        if request.beam is not None:
+            # every motor is commanded every cycle (an uncommanded one lets rcsssmj zero
+            # every robot's controls, see docs/league.md): a beam comes with the stance
+            parts += [effectors.beam(*request.beam), self.controller.stand(perception)]
+        elif self.stand_when_idle and request.kick is None and not any(walk):
+            parts.append(self.controller.stand(perception))
+        else:
+            parts.append(self.controller.step(walk, perception))
         if request.say:
             reason = self.profile.check_message(request.say)
             if reason is not None:

@@ -14,6 +14,8 @@ from typing import Protocol
 
 import numpy as np
 
+from locomotion.humanoid.walker import WalkParams
+
 from . import effectors
 from .errors import LeagueError
 from .perception import Perception
@@ -22,12 +24,20 @@ from .t1 import T1_MOTORS, joint_sensor
 #: the server's cycle (s): one perception and one answer per 20 ms of game time
 CYCLE_S = 0.02
 
+#: the walker's parameters for the league server, tuned on the server's own physics
+#: (``benchmarks/league_walker_tune.py``); the defaults were tuned in our MuJoCo loop (PD every
+#: 2 ms), and their 4.6 x gains make the legs chatter under the server's 5 ms steps
+LEAGUE_WALK = WalkParams(pd_gain_scale=2.0)
+
 
 class LocomotionController(Protocol):
     """Walk-command -> motor effectors, once per cycle."""
 
     def reset(self) -> None:
         """Forget the walk (e.g. after a beam)."""
+
+    def stand(self, perception: Perception) -> str:
+        """Motor effectors that hold the robot standing still (before kick-off, when idle)."""
 
     def step(self, command: tuple[float, float, float], perception: Perception) -> str:
         """Motor effectors for this cycle under ``command`` = (vx m/s, vy m/s, turn rad/s),
@@ -52,12 +62,15 @@ class WalkerController:
     (``WalkParams.dt`` is set to the cycle) and every motor gets its PD target with the
     walker's gains (``pd_gain_scale`` x the T1's), so no motor is ever left uncommanded."""
 
-    def __init__(self, params=None, feedback: bool = True) -> None:
+    def __init__(self, params=None, feedback: bool = True,
+                 velocity_feedforward: bool = False) -> None:
         self.feedback = feedback
+        #: send the target's own velocity as the PD's dq (else 0: pure damping)
+        self.velocity_feedforward = velocity_feedforward
         from locomotion.humanoid.t1 import load_t1
-        from locomotion.humanoid.walker import LipmWalker, Observer, WalkParams, _gains
+        from locomotion.humanoid.walker import LipmWalker, Observer, _gains
 
-        params = params or WalkParams()
+        params = params or LEAGUE_WALK
         # control periods per server cycle (the walker was tuned at 10 ms)
         self._substeps = max(1, round(CYCLE_S / params.dt))
         import mujoco
@@ -112,11 +125,20 @@ class WalkerController:
         for _ in range(self._substeps):
             q_ref = self._walker.update(np.asarray(command, dtype=float),
                                         obs if self.feedback else None)
-        kp, kd = self._t1.kp, self._t1.kd
-        # the server holds a target for the whole 20 ms cycle: give the PD the target's
-        # velocity too, so the damping term does not fight the planned motion
-        dq = np.zeros_like(q_ref) if self._last_q is None else (q_ref - self._last_q) / CYCLE_S
+        dq = np.zeros_like(q_ref)
+        if self.velocity_feedforward and self._last_q is not None:
+            dq = (q_ref - self._last_q) / CYCLE_S
         self._last_q = q_ref.copy()
+        return self._motor_message(q_ref, dq)
+
+    def stand(self, perception: Perception) -> str:
+        """The walker's stance (the pose each walk starts from) with the walking gains."""
+        self.reset()
+        q = self._t1.q_stance[self._t1.act_qadr]
+        return self._motor_message(q, np.zeros_like(q))
+
+    def _motor_message(self, q: np.ndarray, dq: np.ndarray) -> str:
+        kp, kd = self._t1.kp, self._t1.kd
         return effectors.message(*(
-            effectors.motor(name, float(q_ref[k]), float(dq[k]), float(kp[k]), float(kd[k]))
+            effectors.motor(name, float(q[k]), float(dq[k]), float(kp[k]), float(kd[k]))
             for k, name in enumerate(self._motors)))

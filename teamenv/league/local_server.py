@@ -52,15 +52,19 @@ class LocalServer:
         from rcsssmj.games.soccer.server.soccer_action_parser import SoccerActionParser
         from rcsssmj.games.soccer.sim.soccer_referee import SoccerReferee
         from rcsssmj.games.soccer.sim.soccer_sim import SoccerSimulation
-        from rcsssmj.games.soccer.soccer_fields import create_soccer_field
-        from rcsssmj.games.soccer.soccer_rules import create_soccer_rule_book
+        from rcsssmj.games.soccer.soccer_fields import SoccerFieldVersions, create_soccer_field
+        from rcsssmj.games.soccer.soccer_rules import SoccerRuleBooks, create_soccer_rule_book
         from rcsssmj.server.perception_encoder import DefaultPerceptionEncoder
 
-        try:
-            book = create_soccer_rule_book(rules)
-            pitch = create_soccer_field(field or book.default_field_version.value)
-        except Exception as exc:  # rcsssmj raises plain errors for unknown names
-            raise LeagueError(f"local server: rules {rules!r} / field {field!r}: {exc}") from None
+        # rcsssmj falls back to a default for an unknown name: check against its own lists
+        books = [b.value for b in SoccerRuleBooks if b.value != "unknown"]
+        fields = [f.value for f in SoccerFieldVersions if f.value != "unknown"]
+        if rules not in books:
+            raise LeagueError(f"local server: rules {rules!r} unknown; rcsssmj has {books}")
+        if field is not None and field not in fields:
+            raise LeagueError(f"local server: field {field!r} unknown; rcsssmj has {fields}")
+        book = create_soccer_rule_book(rules)
+        pitch = create_soccer_field(field or book.default_field_version.value)
         self.sim = SoccerSimulation(field=pitch, rules=book, referee=SoccerReferee())
         if not self.sim.init():
             raise LeagueError("local server: rcsssmj failed to build the world")

@@ -33,14 +33,12 @@ from teamenv.teams import TeamContext, make_team, team_version
 from teamenv.teams import team_context as env_team_context
 from teamenv.tournament.spec import parse_team_spec
 
-from . import effectors
 from .adapter import Request, RequestEncoder
 from .controller import CYCLE_S, WalkerController
 from .errors import LeagueError
 from .observation import SAID_MEMORY_CYCLES, VisionObservationBuilder
 from .perception import Perception
 from .server import LeagueServer, ServerOptions
-from .t1 import T1_MOTORS
 from .team_client import TeamClient, join_teams
 
 #: players of the ``ssim`` rules (7 v 7 on fifa7vs7)
@@ -83,10 +81,6 @@ def server_team_name(label: str, other: str | None = None) -> str:
 
 #: cycles the teams play in BeforeKickOff before the kick-off (the env's ``before_kickoff_s``)
 BEFORE_KICK_OFF_CYCLES = 10
-
-#: every motor held at 0 (sent with a beam, when the walker does not run: an uncommanded motor
-#: lets the server zero every robot's controls, see docs/league.md)
-HOLD = effectors.message(*(effectors.motor(m, 0.0, 0.0, 50.0, 1.0) for m in T1_MOTORS))
 
 
 def start_poses(team_size: int) -> list[tuple[float, float, float]]:
@@ -178,8 +172,7 @@ class LeagueSide:
             request = Request(walk=tuple(float(v) for v in cmd.walk[k]), kick=kick, beam=beam,
                               say=cmd.say[k] or None)
             message = self.encoders[unum].encode(request, p)
-            if beam is not None:   # no walker this cycle: hold every motor
-                message += HOLD
+            if beam is not None:
                 self.builder.note_beam(unum)
             out[unum] = message
             self.said.setdefault(unum, deque(maxlen=SAID_MEMORY_CYCLES)).append(cmd.say[k])
@@ -232,12 +225,13 @@ def play_league_match(left: str, right: str, options: LeagueMatchOptions = Leagu
         try:
             # walkers first: an active agent that does not answer for 5 s is dropped
             for s, c in zip(sides, clients, strict=True):
-                s.encoders = {u: RequestEncoder(WalkerController(), c.who(u), idle=HOLD)
+                s.encoders = {u: RequestEncoder(WalkerController(), c.who(u))
                               for u in c.unums}
             join_teams(clients)
             homes = start_poses(n)
             for s, c in zip(sides, clients, strict=True):   # the env's start poses
-                c.act({u: s.encoders[u].encode(Request(beam=homes[u - 1]), c.last[u]) + HOLD
+                fresh = c.perceive()        # join answered ``last``: read the next one
+                c.act({u: s.encoders[u].encode(Request(beam=homes[u - 1]), fresh[u])
                        for u in c.unums})
                 for u in c.unums:
                     s.builder.note_beam(u)

@@ -55,7 +55,8 @@ class TeamClient:
 
     # -- lifecycle ---------------------------------------------------------------------------
     def join(self) -> dict[int, Perception]:
-        """Wait until every agent has had a perception (answering each with ``(syn)``)."""
+        """Wait until every agent has had a perception (answering each with ``(syn)``); the
+        next call is ``perceive()`` (``last`` has been answered)."""
         join_teams([self])
         return dict(self.last)
 
@@ -98,7 +99,9 @@ class TeamClient:
 
 def join_teams(clients: Sequence[TeamClient]) -> None:
     """Connect every team's agents, one at a time, and wait until all are active, answering
-    each perception with ``(syn)`` as it comes.
+    each perception with ``(syn)`` as it comes; it returns when every agent's newest
+    perception (``last``) is of the same cycle and answered, so the next call is
+    ``perceive()``.
 
     Teams sharing a server join together (an active agent that is not answered while another
     team joins is dropped after 5 s). One agent at a time, because the server (rcsssmj 0.2.1)
@@ -116,15 +119,32 @@ def join_teams(clients: Sequence[TeamClient]) -> None:
             sel.register(conn, selectors.EVENT_READ, (i, u))
             deadline = time.monotonic() + timeout_s
             while u not in c.last:
-                ready = sel.select(timeout=0.5)
-                if not ready:
-                    for other in clients:
-                        other._check_alive()
-                    if time.monotonic() > deadline:
-                        raise ServerDiedError(f"{c.who(u)} got no perception in "
-                                              f"{timeout_s:.0f} s after init")
-                for key, _ in ready:
-                    ki, ku = key.data
-                    kc = clients[ki]
-                    kc.last[ku] = kc._read(ku)
-                    kc._conns[ku].send(effectors.SYN)
+                _answer_ready(sel, clients, deadline, f"{c.who(u)} got no perception in "
+                                                      f"{timeout_s:.0f} s after init")
+        # end with every agent's newest perception read and answered, all of the same cycle:
+        # the caller's next step is perceive(). (Answering ``last`` again would queue a second
+        # answer at the server, which applies one per cycle: every later action would then
+        # take effect a cycle late, for good.)
+        deadline = time.monotonic() + timeout_s
+        while True:
+            times = [p.time or 0.0 for cl in clients for p in cl.last.values()]
+            if min(times) >= max(times):
+                break
+            _answer_ready(sel, clients, deadline, "agents did not reach the same cycle in "
+                                                  f"{timeout_s:.0f} s after joining")
+
+
+def _answer_ready(sel: selectors.BaseSelector, clients: Sequence[TeamClient], deadline: float,
+                  timeout_message: str) -> None:
+    """Read the perceptions that have arrived and answer each with ``(syn)``."""
+    ready = sel.select(timeout=0.5)
+    if not ready:
+        for other in clients:
+            other._check_alive()
+        if time.monotonic() > deadline:
+            raise ServerDiedError(timeout_message)
+    for key, _ in ready:
+        ki, ku = key.data
+        kc = clients[ki]
+        kc.last[ku] = kc._read(ku)
+        kc._conns[ku].send(effectors.SYN)

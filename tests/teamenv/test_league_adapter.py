@@ -62,6 +62,10 @@ class _Recorder:
     def reset(self):
         self.resets += 1
 
+    def stand(self, perception):
+        self.reset()
+        return "(stand)"
+
     def step(self, command, perception):
         self.commands.append(tuple(command))
         return "(he1 0 0 0 0 0)"
@@ -69,19 +73,22 @@ class _Recorder:
 
 def test_requests_to_effectors():
     ctl = _Recorder()
-    enc = RequestEncoder(ctl, "agent Alpha_1")
+    enc = RequestEncoder(ctl, "agent Alpha_1", stand_when_idle=False)
     p = _recorded("first.txt")
     text = base64.b64encode(b"0123456789").decode()
     assert enc.encode(Request(say=text), p) == "(he1 0 0 0 0 0)(SPK say 100 MDEyMzQ1Njc4OQ==)"
-    assert enc.encode(Request(beam=(-3.0, 1.0, 0.0)), p) == "(beam -3 1 0)" and ctl.resets == 1
+    # a beam comes with the standing targets (every motor commanded), which reset the walk
+    assert enc.encode(Request(beam=(-3.0, 1.0, 0.0)), p) == "(beam -3 1 0)(stand)"
+    assert ctl.resets == 1
     enc.encode(Request(walk=(0.2, 0.0, 0.1)), p)
     enc.encode(Request(walk=(0.0, 0.0, 0.0), kick=(1.0, 0.0)), p)
     assert ctl.commands[-2] == (0.2, 0.0, 0.1) and ctl.commands[-1][0] > 0.3
     with pytest.raises(LeagueError, match="agent Alpha_1: say 'hello' breaks the mj channel"):
         enc.encode(Request(say="hello"), p)
-    idle = RequestEncoder(ctl, "agent Alpha_1", idle="(hold)")
+    assert enc.encode(Request(), p) == "(he1 0 0 0 0 0)"  # walks on the spot
+    idle = RequestEncoder(ctl, "agent Alpha_1")
     before = len(ctl.commands)
-    assert idle.encode(Request(), p) == "(hold)" and ctl.resets == 2      # stands, no walker
+    assert idle.encode(Request(), p) == "(stand)" and ctl.resets == 2     # stands, no walker
     assert idle.encode(Request(kick=(1.0, 0.0)), p) == "(he1 0 0 0 0 0)"  # a kick walks
     assert idle.encode(Request(walk=(0.1, 0.0, 0.0)), p) == "(he1 0 0 0 0 0)"
     assert len(ctl.commands) == before + 2
@@ -93,27 +100,27 @@ def test_requests_to_effectors():
 def test_one_agent_walks_towards_a_point_on_the_real_server():
     pytest.importorskip("rcsssmj")
     pytest.importorskip("mujoco")
-    from teamenv.league import effectors
     from teamenv.league.controller import WalkerController
     from teamenv.league.server import LeagueServer
-    from teamenv.league.t1 import T1_MOTORS
     from teamenv.league.team_client import TeamClient
+    from teamenv.league.walk_trial import is_down
 
     target = np.array([0.0, 0.0])
     enc = RequestEncoder(WalkerController(), "agent Alpha_1")
-    hold = effectors.message(*(effectors.motor(m, 0.0, 0.0, 50.0, 1.0) for m in T1_MOTORS))
     with LeagueServer() as server, TeamClient("127.0.0.1", server.agent_port, "Alpha", (1,),
                                               check_alive=server.check_alive) as team:
         team.join()
-        team.act({1: enc.encode(Request(beam=(-5.0, 0.0, 0.0)), team.last[1]) + hold})
-        dist = []
-        for _ in range(110):        # 2.2 s of game time: 0.5 s standing, then walking
+        team.act({1: enc.encode(Request(beam=(-5.0, 0.0, 0.0)), team.perceive()[1])})
+        dist, down = [], []
+        for k in range(200):        # 4 s of game time: 0.5 s standing, then walking
             p = team.perceive()[1]
+            if k == 0:              # after the beam: the server beams only before kick-off
+                server.monitor.kick_off("Left")
             x, y, yaw = torso_pose(p)
             dist.append(float(np.hypot(*(target - (x, y)))))
+            down.append(is_down(p))
             to = math.atan2(target[1] - y, target[0] - x) - yaw
-            team.act({1: enc.encode(Request(walk=(0.3, 0.0, 0.5 * math.remainder(to, 2 * math.pi))), p)})
+            team.act({1: enc.encode(Request(walk=(0.4, 0.0, 0.5 * math.remainder(to, 2 * math.pi))), p)})
     assert dist[2] == pytest.approx(5.0, abs=0.2)        # beamed
-    # Walked closer. Only ~15 cm: our walker still falls about a second after it starts
-    # stepping on the server (docs/league.md), so the gain is small but must be there.
-    assert min(dist) < dist[2] - 0.10
+    assert not any(down)                                 # the league walk stays up
+    assert dist[-1] < dist[2] - 0.7                      # ~1 m in 3.5 s of walking

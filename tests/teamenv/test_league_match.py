@@ -92,6 +92,9 @@ class _Recorder:
     def reset(self):
         pass
 
+    def stand(self, perception):
+        return "(stand)"
+
     def step(self, command, perception):
         self.commands.append(tuple(command))
         return "(walk)"
@@ -101,7 +104,7 @@ def _side(spec, action, mode="PlayOn"):
     ScriptedTeam.ACTION = action
     side = make_side(spec, "left", 2, seed=0)
     ctl = _Recorder()
-    side.encoders = {u: RequestEncoder(ctl, f"agent {side.server_name}_{u}", idle="(hold)")
+    side.encoders = {u: RequestEncoder(ctl, f"agent {side.server_name}_{u}")
                      for u in (1, 2)}
     p = parse_perception((DATA / "kick_off.txt").read_text().strip())
     p = dataclasses.replace(p, game=dataclasses.replace(p.game, play_mode=mode))
@@ -120,12 +123,12 @@ def test_team_actions_become_effectors():
     side.act(percepts)
     assert ctl.commands[-1][0] > 0.3                     # a kick is a walk through the ball
     side, ctl, percepts = _side(SCRIPTED, {})
-    assert side.act(percepts)[1] == "(hold)"              # no walk: stands
+    assert side.act(percepts)[1] == "(stand)"             # no walk: stands
     beam = {"beam_request": 1, "beam": [-5.0, 1.0, 0.0]}
     side, ctl, percepts = _side(SCRIPTED, beam, mode="PlayOn")
     assert "beam" not in side.act(percepts)[1]           # refused outside BeforeKickOff / goals
     side, ctl, percepts = _side(SCRIPTED, beam, mode="BeforeKickOff")
-    assert side.act(percepts)[1].startswith("(beam -5 1 0)(he1 ")
+    assert side.act(percepts)[1] == "(beam -5 1 0)(stand)"
 
 
 def test_a_team_that_raises_or_returns_bad_actions_is_named():
