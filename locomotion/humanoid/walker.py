@@ -293,7 +293,38 @@ class LipmWalker:
         return self._limit_landing(out, sup, 1.0 if swing == "Left" else -1.0)
 
     def _zmp_ref(self) -> np.ndarray:
-        """(n_prev, 2) ZMP reference from now over the preview horizon."""
+        """(n_prev, 2) ZMP reference from now over the preview horizon (vectorised; the same
+        arithmetic per point as ``_zmp_ref_loop``, so the same numbers)."""
+        p = self.p
+        ss = p.step_period - p.double_support
+        land0 = self._landing()
+        tau = self.t_step + np.arange(self.n_prev) * p.dt
+        out = np.empty((self.n_prev, 2))
+        stand = tau < 0
+        if stand.any():  # initial stand: centre, then move onto the first support foot
+            first_sup = self._zmp_point(self.plan[0][3])
+            mid = 0.5 * (self._zmp_point(self.feet["Left"]) + self._zmp_point(self.feet["Right"]))
+            a = np.minimum(np.maximum((tau[stand] + p.double_support) / p.double_support, 0.0),
+                           1.0)
+            out[stand] = mid + a[:, None] * (first_sup - mid)
+        walk = ~stand
+        if walk.any():
+            t = tau[walk]
+            k = np.floor_divide(t, p.step_period)
+            r = t - k * p.step_period
+            k = k.astype(np.int64)
+            beyond = k >= len(self.plan)
+            k[beyond], r[beyond] = len(self.plan) - 1, ss
+            sups = np.array([self._zmp_point(step[3]) for step in self.plan])
+            nxts = np.array([self._zmp_point(land0 if i == 0 else step[2])
+                             for i, step in enumerate(self.plan)])
+            sup, nxt = sups[k], nxts[k]
+            frac = ((r - ss) / p.double_support)[:, None]
+            out[walk] = np.where((r < ss)[:, None], sup, sup + frac * (nxt - sup))
+        return out
+
+    def _zmp_ref_loop(self) -> np.ndarray:
+        """The point-by-point form of ``_zmp_ref`` (kept as its test's reference)."""
         p = self.p
         out = np.empty((self.n_prev, 2))
         ss = p.step_period - p.double_support

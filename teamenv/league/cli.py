@@ -5,6 +5,10 @@ from __future__ import annotations
 
 import argparse
 
+SERVER_HELP = ("real: rcssservermj as a child process over TCP (default); local: the same "
+               "simulation, referee and protocol code of rcsssmj in this process, no sockets "
+               "(faster joins, seeded: the same seed replays the match)")
+
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("league-match", help="play a match on the league server (rcsssmj, "
@@ -22,6 +26,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    "the match is the one match of this new tournament (a name already holding "
                    "one is an error)")
     p.add_argument("--log-dir", default=None, help="where the server's log goes (default: tmp)")
+    p.add_argument("--server", default="real", choices=("real", "local"), help=SERVER_HELP)
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=_run)
 
@@ -37,6 +42,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     t.add_argument("--seed", type=int, default=0, help="the tournament's base seed")
     t.add_argument("--resume", action="store_true", help="play what is missing of --name")
     t.add_argument("--log-dir", default=None, help="where the servers' logs go (default: tmp)")
+    t.add_argument("--server", default="real", choices=("real", "local"), help=SERVER_HELP)
     t.set_defaults(func=_run_tournament)
 
 
@@ -51,7 +57,7 @@ def _run(args: argparse.Namespace) -> int:
     )
 
     options = LeagueMatchOptions(team_size=args.team_size, game_s=args.seconds,
-                                 kick_off=args.kick_off)
+                                 kick_off=args.kick_off, server=args.server)
     if args.db:
         check_league_record(args.db, args.name, args.left, args.right)  # before playing
     bar = tqdm(total=round(args.seconds, 2), unit="s game", disable=args.no_progress,
@@ -79,14 +85,14 @@ def _run_tournament(args: argparse.Namespace) -> int:
 
     teams = args.teams or None
     options = None if args.resume and not teams else LeagueMatchOptions(
-        team_size=args.team_size, game_s=args.seconds)
+        team_size=args.team_size, game_s=args.seconds, server=args.server)
 
     def report(done: int, total: int, result) -> None:
         print(f"[{done}/{total}] {result.summary().splitlines()[0]}", flush=True)
 
     summary = run_league_tournament(args.name, args.db, teams, options, games=args.games,
                                     seed=args.seed, resume=args.resume, log_dir=args.log_dir,
-                                    on_match=report)
+                                    on_match=report, server=args.server)
     print(f"{args.name}: {summary.played} played, {summary.skipped} already stored, "
           f"{summary.scheduled} scheduled ({summary.wall_s:.0f} s wall)")
     return 0

@@ -18,7 +18,10 @@ perceptor kinds, and the same joint trajectory under the same motor commands.
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
+
+import numpy as np
 
 from .errors import LeagueError
 from .perception import Perception, parse_perception
@@ -43,7 +46,8 @@ class LocalServer:
     returns each agent's new perception. ``kick_off(side)`` is the monitor's ``(kickOff ...)``.
     """
 
-    def __init__(self, rules: str = "ssim", field: str | None = None, action_delay: int = 1) -> None:
+    def __init__(self, rules: str = "ssim", field: str | None = None, action_delay: int = 1,
+                 seed: int = 0) -> None:
         if action_delay not in (0, 1):
             raise LeagueError(f"action_delay must be 0 or 1, not {action_delay!r}")
         from locomotion.humanoid._deps import require
@@ -65,18 +69,24 @@ class LocalServer:
             raise LeagueError(f"local server: field {field!r} unknown; rcsssmj has {fields}")
         book = create_soccer_rule_book(rules)
         pitch = create_soccer_field(field or book.default_field_version.value)
+        # rcsssmj draws the say channel's losses from numpy's global generator: it gets its own
+        # seeded state here, swapped in around every simulation call (same seed, same match)
+        self._np_state = np.random.RandomState(seed).get_state()
         self.sim = SoccerSimulation(field=pitch, rules=book, referee=SoccerReferee())
         if not self.sim.init():
             raise LeagueError("local server: rcsssmj failed to build the world")
         # as LeagueServer waits for the first monitor message: a player added before the first
         # simulation step crashes rcsssmj 0.2.1's audio engine
-        self.sim.step([])
+        self._in_own_rng(self.sim.step, [])
         self._parser = SoccerActionParser()
         self._encoder = DefaultPerceptionEncoder()
         self.action_delay = action_delay
         self._agents: dict[tuple[str, int], object] = {}
         self._pending: dict[tuple[str, int], list] = {}
         self._commands: list = []
+        self._answers: dict[tuple[str, int], str] = {}
+        self._answered: set[str] = set()
+        self.latest: dict[tuple[str, int], Perception] = {}
         self.cycles = 0
 
     def join(self, team: str, unum: int, model: str = "T1") -> Perception:
@@ -89,8 +99,17 @@ class LocalServer:
             raise LeagueError(f"local server: rcsssmj refused {team} {unum} ({model}): "
                               "a third team, a taken number or an unknown model")
         self._agents[key] = agent
-        self.sim.generate_perceptions()
+        self._in_own_rng(self.sim.generate_perceptions)
         return self._perceive(key)
+
+    def _in_own_rng(self, fn, *args):
+        outer = np.random.get_state()
+        np.random.set_state(self._np_state)
+        try:
+            return fn(*args)
+        finally:
+            self._np_state = np.random.get_state()
+            np.random.set_state(outer)
 
     def _perceive(self, key: tuple[str, int]) -> Perception:
         msg = self._encoder.encode(self._agents[key].perceptions)
@@ -118,7 +137,59 @@ class LocalServer:
             agent.set_actions(apply.get(key, []))
         self._pending = parsed
         commands, self._commands = self._commands, []
-        self.sim.step(commands)
+        self._in_own_rng(self.sim.step, commands)
         self.cycles += 1
-        self.sim.generate_perceptions()
-        return {key: self._perceive(key) for key in self._agents}
+        self._in_own_rng(self.sim.generate_perceptions)
+        self.latest = {key: self._perceive(key) for key in self._agents}
+        self._answers = {}
+        return dict(self.latest)
+
+    # -- the TeamClient interface, for play_league_match ---------------------------------
+    def team(self, name: str, unums: Iterable[int]) -> LocalTeam:
+        """A ``TeamClient`` look-alike for team ``name``'s agents on this server."""
+        return LocalTeam(self, name, tuple(unums))
+
+    def join_teams(self, teams: Iterable[LocalTeam]) -> None:
+        """Add every agent (as ``join_teams``: one at a time, the first team plays left), then
+        answer one cycle with ``(syn)``; the next call is each team's ``perceive()``."""
+        for team in teams:
+            for u in team.unums:
+                team.last[u] = self.join(team.team, u)
+        self.cycle({})
+
+    def answer(self, team: str, actions: Mapping[int, str]) -> None:
+        """One team's answers; the cycle runs once every agent that joined has answered."""
+        self._answers.update({(team, u): msg for u, msg in actions.items()})
+        self._answered.add(team)
+        if self._answered >= {t for t, _ in self._agents}:
+            self._answered = set()
+            self.cycle(self._answers)
+
+
+class LocalTeam:
+    """One team's agents on a ``LocalServer``, with ``TeamClient``'s calls: ``perceive()``
+    returns the perceptions of the last cycle, ``act(actions)`` answers them (``(syn)`` for an
+    agent without an action); the server cycles when every team has answered."""
+
+    def __init__(self, server: LocalServer, team: str, unums: tuple[int, ...]) -> None:
+        self.server, self.team, self.unums = server, team, unums
+        self.last: dict[int, Perception] = {}
+        self.cycles = 0
+
+    def who(self, unum: int) -> str:
+        return f"agent {self.team}_{unum}"
+
+    def perceive(self) -> dict[int, Perception]:
+        self.last = {u: self.server.latest[(self.team, u)] for u in self.unums}
+        return dict(self.last)
+
+    def act(self, actions: Mapping[int, str] | None = None) -> None:
+        actions = actions or {}
+        unknown = set(actions) - set(self.unums)
+        if unknown:
+            raise LeagueError(f"team {self.team}: actions for unknown agents {sorted(unknown)}")
+        self.server.answer(self.team, {u: actions.get(u) or "(syn)" for u in self.unums})
+        self.cycles += 1
+
+    def close(self) -> None:
+        """Nothing to close (no sockets)."""

@@ -14,10 +14,12 @@ the env; refused otherwise) and say (``mj`` channel text).
 
 from __future__ import annotations
 
+import base64
 import re
 import time
 from collections import deque
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -51,12 +53,15 @@ LOCOMOTION_PROFILE = "t1_mj"
 @dataclass(frozen=True)
 class LeagueMatchOptions:
     """team_size: players per side (1-7); game_s: game time to play (s, one half); rules:
-    the server's rule book; kick_off: the side that kicks off."""
+    the server's rule book; kick_off: the side that kicks off; server: "real" (rcssservermj,
+    a child process, over TCP) or "local" (``LocalServer``: the same simulation, referee and
+    protocol code in this process, no sockets; seeded, so the same seed replays a match)."""
 
     team_size: int = MAX_TEAM_SIZE
     game_s: float = 30.0
     rules: str = "ssim"
     kick_off: str = "Left"
+    server: str = "real"
 
     def __post_init__(self) -> None:
         if not 1 <= self.team_size <= MAX_TEAM_SIZE:
@@ -65,6 +70,8 @@ class LeagueMatchOptions:
             raise ConfigError(f"league match: game_s {self.game_s} must be > 0")
         if self.kick_off not in ("Left", "Right"):
             raise ConfigError(f"league match: kick_off {self.kick_off!r} is not Left or Right")
+        if self.server not in ("real", "local"):
+            raise ConfigError(f"league match: server {self.server!r} is not real or local")
 
     def match_options(self) -> MatchOptions:
         """The env's options for the same match (what the database stores)."""
@@ -122,6 +129,8 @@ class LeagueSide:
     encoders: dict[int, RequestEncoder] = field(default_factory=dict)
     #: what each agent said in the last ``SAID_MEMORY_CYCLES`` cycles (newest last)
     said: dict[int, deque] = field(default_factory=dict)
+    #: each agent's request of the last cycle (the replay recorder reads kicks and says)
+    requests: dict[int, Request] = field(default_factory=dict)
     time_s: float = 0.0
 
     @property
@@ -172,6 +181,7 @@ class LeagueSide:
             request = Request(walk=tuple(float(v) for v in cmd.walk[k]), kick=kick, beam=beam,
                               say=cmd.say[k] or None)
             message = self.encoders[unum].encode(request, p)
+            self.requests[unum] = request
             if beam is not None:
                 self.builder.note_beam(unum)
             out[unum] = message
@@ -203,63 +213,112 @@ def make_side(spec: str, side: str, team_size: int, seed: int,
     return out
 
 
+def _replay_inputs(sides: Sequence[LeagueSide], n: int) -> tuple[set[int], np.ndarray]:
+    """Who was asked to kick and how many bytes each said, this cycle (left team first)."""
+    kicking: set[int] = set()
+    said = np.zeros(2 * n, np.uint8)
+    for k, s in enumerate(sides):
+        for unum, request in s.requests.items():
+            i = k * n + unum - 1
+            if request.kick is not None:
+                kicking.add(i)
+            if request.say:
+                said[i] = len(base64.b64decode(request.say))
+    return kicking, said
+
+
+@contextmanager
+def open_league(options: LeagueMatchOptions, names: Sequence[str], log_dir: str | Path | None,
+                seed: int) -> Iterator[tuple[list, Callable, Callable[[str], None]]]:
+    """A fresh server for one match: (one client per team name, the join function, kick-off).
+    ``options.server`` "real": ``rcssservermj`` as a child process, stopped on leaving;
+    "local": ``LocalServer``, the server's own simulation in this process (seeded)."""
+    n = options.team_size
+    if options.server == "local":
+        from .local_server import LocalServer
+
+        local = LocalServer(rules=options.rules, seed=seed)
+        yield [local.team(name, range(1, n + 1)) for name in names], local.join_teams, \
+            local.kick_off
+        return
+    with LeagueServer(ServerOptions(rules=options.rules), log_dir=log_dir) as server:
+        clients = [TeamClient("127.0.0.1", server.agent_port, name, range(1, n + 1),
+                              check_alive=server.check_alive) for name in names]
+        try:
+            yield clients, join_teams, server.monitor.kick_off
+        finally:
+            for c in clients:
+                c.close()
+
+
 def play_league_match(left: str, right: str, options: LeagueMatchOptions = LeagueMatchOptions(),
                       seed: int = 0, on_cycle: Callable[[float, tuple[int, int]], None] | None = None,
                       log_dir: str | Path | None = None,
-                      on_act: Callable[[str, dict, Any], None] | None = None) -> MatchResult:
+                      on_act: Callable[[str, dict, Any], None] | None = None,
+                      replay_path: str | Path | None = None) -> MatchResult:
     """Play one match of team specs ``left`` and ``right`` on a fresh server and return its
     result (the server is always stopped, also when a team raises).
 
     ``on_cycle(game_time_s, score)`` is called every cycle (progress display);
-    ``on_act(side, observations, actions)`` after every ``act`` of a team (tests)."""
+    ``on_act(side, observations, actions)`` after every ``act`` of a team (tests);
+    ``replay_path``: record the match there as a teamenv replay (``teamenv.league.replay``;
+    needs ``options.server == "local"``, whose simulation the recorder reads)."""
     n = options.team_size
+    if replay_path is not None and options.server != "local":
+        raise ConfigError("league match: a replay needs server='local' (the recorder reads the "
+                          "simulation; the real server's state is not exposed to clients)")
     start = time.monotonic()
     first = make_side(left, "left", n, seed)
     sides = (first, make_side(right, "right", n, seed, first.server_name))
     goals: list[Goal] = []
     cycles = 0
     score = (0, 0)
-    with LeagueServer(ServerOptions(rules=options.rules), log_dir=log_dir) as server:
-        clients = [TeamClient("127.0.0.1", server.agent_port, s.server_name, range(1, n + 1),
-                              check_alive=server.check_alive) for s in sides]
-        try:
-            # walkers first: an active agent that does not answer for 5 s is dropped
-            for s, c in zip(sides, clients, strict=True):
-                s.encoders = {u: RequestEncoder(WalkerController(), c.who(u))
-                              for u in c.unums}
-            join_teams(clients)
-            homes = start_poses(n)
-            for s, c in zip(sides, clients, strict=True):   # the env's start poses
-                fresh = c.perceive()        # join answered ``last``: read the next one
-                c.act({u: s.encoders[u].encode(Request(beam=homes[u - 1]), fresh[u])
-                       for u in c.unums})
-                for u in c.unums:
-                    s.builder.note_beam(u)
-            before = 0
-            kicked_off = False
-            while True:
-                percepts = [c.perceive() for c in clients]
-                gs = percepts[0][1].game
-                new = (gs.score_left, gs.score_right)
-                for k, (a, b) in enumerate(zip(score, new, strict=True)):
-                    goals += [Goal(gs.time, sides[k].side, None, None)] * max(0, b - a)
-                score = new
-                if on_cycle is not None:
-                    on_cycle(gs.time, score)
-                if kicked_off and gs.time >= options.game_s:
-                    break
-                for s, c, p in zip(sides, clients, percepts, strict=True):
-                    c.act(s.act(p, on_act))
-                if kicked_off:
-                    cycles += 1
-                else:
-                    before += 1
-                    if before >= BEFORE_KICK_OFF_CYCLES:
-                        server.monitor.kick_off(options.kick_off)
-                        kicked_off = True
-        finally:
-            for c in clients:
-                c.close()
+    with open_league(options, [s.server_name for s in sides], log_dir, seed) as (
+            clients, join, kick_off):
+        # walkers first: an active agent that does not answer for 5 s is dropped
+        for s, c in zip(sides, clients, strict=True):
+            s.encoders = {u: RequestEncoder(WalkerController(), c.who(u)) for u in c.unums}
+        join(clients)
+        recorder = None
+        if replay_path is not None:
+            from .replay import LeagueReplayRecorder
+
+            recorder = LeagueReplayRecorder(clients[0].server, tuple(s.server_name for s in sides),
+                                            n, FIELD)
+        homes = start_poses(n)
+        for s, c in zip(sides, clients, strict=True):   # the env's start poses
+            fresh = c.perceive()        # join answered ``last``: read the next one
+            c.act({u: s.encoders[u].encode(Request(beam=homes[u - 1]), fresh[u])
+                   for u in c.unums})
+            for u in c.unums:
+                s.builder.note_beam(u)
+        before = 0
+        kicked_off = False
+        while True:
+            percepts = [c.perceive() for c in clients]
+            gs = percepts[0][1].game
+            new = (gs.score_left, gs.score_right)
+            for k, (a, b) in enumerate(zip(score, new, strict=True)):
+                goals += [Goal(gs.time, sides[k].side, None, None)] * max(0, b - a)
+            score = new
+            if on_cycle is not None:
+                on_cycle(gs.time, score)
+            if kicked_off and gs.time >= options.game_s:
+                break
+            for s, c, p in zip(sides, clients, percepts, strict=True):
+                c.act(s.act(p, on_act))
+            if recorder is not None:
+                recorder.record(gs, *_replay_inputs(sides, n))
+            if kicked_off:
+                cycles += 1
+            else:
+                before += 1
+                if before >= BEFORE_KICK_OFF_CYCLES:
+                    kick_off(options.kick_off)
+                    kicked_off = True
+    if recorder is not None:
+        recorder.save(replay_path, {"left": first.label, "right": sides[1].label, "seed": seed,
+                                    "server": options.server})
     return MatchResult(seed=seed, left=first.label, right=sides[1].label, score=score,
                        goals=tuple(goals), cycles=cycles, wall_s=time.monotonic() - start,
                        team_versions=tuple(team_version(parse_team_spec(s.label).name)

@@ -55,17 +55,19 @@ class LeagueBackend:
 
     def __init__(self, play: Callable[..., MatchResult] | None = None,
                  log_dir: str | Path | None = None,
-                 on_match: Callable[[int, int, MatchResult], None] | None = None) -> None:
+                 on_match: Callable[[int, int, MatchResult], None] | None = None,
+                 server: str = "real") -> None:
         self.play = play or play_league_match
         self.log_dir = log_dir
         self.on_match = on_match
+        self.server = server
 
     def run(self, tasks: Sequence[MatchTask]) -> Iterator[Outcome]:
         from teamenv.tournament.backends import Outcome
 
         for k, task in enumerate(tasks, 1):
             options = LeagueMatchOptions(team_size=task.options.team_size,
-                                         game_s=task.options.half_time_s)
+                                         game_s=task.options.half_time_s, server=self.server)
             result = self.play(task.left.label, task.right.label, options, seed=task.seed,
                                log_dir=self.log_dir)
             yield Outcome(task, result)
@@ -80,6 +82,7 @@ def run_league_tournament(
     resume: bool = False, log_dir: str | Path | None = None,
     on_match: Callable[[int, int, MatchResult], None] | None = None,
     play: Callable[..., MatchResult] | None = None, progress: bool = False,
+    server: str = "real",
 ) -> LeagueTournamentSummary:
     """Play (or, with ``resume``, finish) league round robin ``name`` in ``db``.
 
@@ -87,7 +90,8 @@ def run_league_tournament(
     options, games and seed given with it must match it). ``on_match(k, n, result)`` after the
     k-th stored match of the n this run plays; ``play`` is the match function (default
     ``play_league_match``; tests pass a stand-in); ``progress``: the tournament runner's live
-    table. The database errors (a name that exists, nothing to resume, a definition that
+    table; ``server``: "real" or "local" (``LeagueMatchOptions.server``; not part of the
+    stored definition, so a run may be resumed on either). The database errors (a name that exists, nothing to resume, a definition that
     differs) are the tournament module's ``StoreError``."""
     from teamenv.tournament import run_tournament
 
@@ -98,7 +102,7 @@ def run_league_tournament(
     tournament = None if teams is None else league_round_robin(name, teams, options, games,
                                                                 seed)
     summary = run_tournament(tournament, db, name=name, resume=resume,
-                             backend=LeagueBackend(play, log_dir, on_match),
+                             backend=LeagueBackend(play, log_dir, on_match, server),
                              progress=progress, stats=False)
     return LeagueTournamentSummary(summary.scheduled, summary.played, summary.skipped,
                                    summary.wall_s)

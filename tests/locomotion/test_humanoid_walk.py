@@ -122,3 +122,15 @@ def test_walker_started_away_from_the_origin_walks_as_at_the_origin(t1) -> None:
     here, away = walk(0.0), walk(-5.0)
     assert away[-1, 0] > 0.2 and abs(away[-1, 1]) < 0.1  # walked forward, did not fall
     np.testing.assert_allclose(away, here, atol=2e-3)
+
+
+def test_vectorised_zmp_reference_equals_the_point_by_point_one(t1) -> None:
+    from locomotion.humanoid.walker import LipmWalker
+
+    walker = LipmWalker(t1)
+    walker.reset((-5.0, 2.0, 0.3))
+    for k in range(300):  # the stand, then steps under changing commands
+        command = (0.3, 0.1, 0.4) if k < 150 else (-0.2, 0.0, -0.5)
+        walker.update(np.array(command))
+        if k % 7 == 0:
+            np.testing.assert_array_equal(walker._zmp_ref(), walker._zmp_ref_loop())

@@ -1,0 +1,170 @@
+"""A league match on ``LocalServer`` recorded as a teamenv replay (format 2), so the league's
+matches get the same statistics (``teamenv.analytics.stats.match_stats``) as the env's.
+
+Every cycle the recorder reads the server's simulation (the monitor's view, ground truth): the
+ball (x, y, vx, vy), each robot's torso (x, y, yaw), who is down (the observation's fall test:
+torso tilted past 60 degrees or lower than 0.4 m), the game state of the perceptions (time,
+play mode, score), and which robots touch the ball (MuJoCo contacts between the ball and a
+robot's geoms). The server has no kick action (our kick is a walk through the ball, see
+``adapter.RequestEncoder``), so a **kick** is a ball contact by a robot whose team asked it to
+kick in the last ``KICK_WINDOW_CYCLES`` cycles, at most one per ``KICK_GRACE_CYCLES``; its
+distance and direction are what the ball then did (its travel until the next contact, rest or
+3 s, and the direction of that displacement), where the env records the kick it planned. Other
+contacts are touches. A goal is a score change, credited to the last robot that touched the
+ball. Messages: ``say_bytes`` from what each robot said; ``say_drops`` and ``heard_from`` are
+not known (zeros), so the message statistics of a league replay are partial.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from teamenv.field import field_preset
+from teamenv.replay import REPLAY_FORMAT
+
+from .controller import CYCLE_S
+from .observation import FALL_HEIGHT_M, FALL_TILT, play_mode_index
+from .perception import GameState
+
+KICK_WINDOW_CYCLES = 10
+KICK_GRACE_CYCLES = 15
+KICK_FOLLOW_CYCLES = 150  # 3 s: how long the ball is followed to measure a kick
+
+
+class LeagueReplayRecorder:
+    """Records a ``LocalServer`` match; ``record(game, kicking, said)`` once per cycle (after
+    the perceptions), ``save(path, metadata)`` at the end.
+
+    ``teams``: the server names of the left and right team; ``kicking``: player indices
+    (0..2N-1, left team first) whose team asked them to kick this cycle; ``said``: (2N,)
+    bytes each said this cycle."""
+
+    def __init__(self, server: Any, teams: tuple[str, str], team_size: int,
+                 field: str = "mj7v7") -> None:
+        import mujoco
+
+        self.sim = server.sim
+        self.n = team_size
+        self.field = field_preset(field)
+        self.field_name = field
+        m = self.sim.mj_model
+        self._ball_q = m.joint("ball-root").qposadr[0]
+        self._ball_v = m.joint("ball-root").dofadr[0]
+        self._ball_geom = m.geom("ball").id
+        prefixes = []
+        for team in teams:
+            for unum in range(1, team_size + 1):
+                agent = server._agents[(team, unum)]
+                prefixes.append(agent.agent_id.prefix)
+        self._root_q = np.array([m.joint(p + "root").qposadr[0] for p in prefixes])
+        self._geom_player = np.full(m.ngeom, -1, dtype=np.int64)
+        for g in range(m.ngeom):
+            name = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, g) or ""
+            for i, p in enumerate(prefixes):
+                if name.startswith(p):
+                    self._geom_player[g] = i
+        self._rows: list[dict[str, Any]] = []
+        self._window = np.zeros(2 * team_size, dtype=np.int64)
+        self._last_kick = np.full(2 * team_size, -10**9, dtype=np.int64)
+        self._kicks: list[tuple[int, int]] = []
+        self._touches: list[tuple[int, int]] = []
+        self._goals: list[tuple[int, int, int]] = []
+        self._last_toucher = -1
+        self._score = (0, 0)
+
+    def record(self, game: GameState, kicking: set[int], said: np.ndarray) -> None:
+        d = self.sim.mj_data
+        row = len(self._rows)
+        ball = np.array([*d.qpos[self._ball_q:self._ball_q + 2],
+                         *d.qvel[self._ball_v:self._ball_v + 2]], dtype=np.float32)
+        players = np.zeros((2 * self.n, 3), np.float32)
+        fallen = np.zeros(2 * self.n, bool)
+        for i, a in enumerate(self._root_q):
+            x, y, z, w, qx, qy, qz = d.qpos[a:a + 7]
+            players[i] = (x, y, math.atan2(2 * (w * qz + qx * qy), 1 - 2 * (qy * qy + qz * qz)))
+            up = 1.0 - 2.0 * (qx * qx + qy * qy)
+            fallen[i] = up < math.cos(FALL_TILT) or z < FALL_HEIGHT_M
+        self._rows.append({"ball": ball, "players": players, "fallen": fallen,
+                           "mode": play_mode_index(game.play_mode, "left"),
+                           "score": (game.score_left, game.score_right), "time": game.time,
+                           "said": np.asarray(said, np.uint8)})
+        for i in kicking:
+            self._window[i] = KICK_WINDOW_CYCLES
+        touching = set()
+        for c in d.contact[:d.ncon]:
+            g = c.geom2 if c.geom1 == self._ball_geom else c.geom1 \
+                if c.geom2 == self._ball_geom else -1
+            if g >= 0 and self._geom_player[g] >= 0:
+                touching.add(int(self._geom_player[g]))
+        if row > 0:
+            for i in sorted(touching):
+                if self._window[i] > 0 and row - self._last_kick[i] > KICK_GRACE_CYCLES:
+                    self._kicks.append((row, i))
+                    self._last_kick[i] = row
+                else:
+                    self._touches.append((row, i))
+                self._last_toucher = i
+            score = (game.score_left, game.score_right)
+            for team in (0, 1):
+                for _ in range(max(0, score[team] - self._score[team])):
+                    self._goals.append((row, team, self._last_toucher))
+            self._score = score
+        self._window = np.maximum(self._window - 1, 0)
+
+    def _kick_outcomes(self, ball: np.ndarray) -> list[tuple[int, int, float, float]]:
+        """Each kick's realised distance and world direction (what the ball then did)."""
+        contacts = sorted({r for r, _ in self._kicks} | {r for r, _ in self._touches})
+        out = []
+        for row, player in self._kicks:
+            later = [r for r in contacts if r > row + 2]
+            end = min(later[0] if later else len(ball) - 1, row + KICK_FOLLOW_CYCLES,
+                      len(ball) - 1)
+            seg = ball[row - 1:end + 1, :2].astype(np.float64)
+            travel = float(np.sum(np.hypot(*np.diff(seg, axis=0).T))) if len(seg) > 1 else 0.0
+            dx, dy = seg[-1] - seg[0]
+            out.append((row, player, travel, math.atan2(dy, dx) if travel > 0 else 0.0))
+        return out
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        t, n2 = len(self._rows), 2 * self.n
+        ball = np.stack([r["ball"] for r in self._rows]) if t else np.zeros((0, 4), np.float32)
+        kicks = np.asarray(self._kick_outcomes(ball), np.float64).reshape(-1, 4)
+        touches = np.asarray(self._touches, np.int64).reshape(-1, 2)
+        goals = np.asarray(self._goals, np.int64).reshape(-1, 3)
+        return {
+            "ball": ball,
+            "players": np.stack([r["players"] for r in self._rows]),
+            "play_mode": np.asarray([r["mode"] for r in self._rows], np.int8),
+            "score": np.asarray([r["score"] for r in self._rows], np.int16),
+            "time_s": np.asarray([r["time"] for r in self._rows], np.float64),
+            "attack_sign": np.ones(t, np.int8),    # one half: left attacks +x
+            "fallen": np.stack([r["fallen"] for r in self._rows]),
+            "kick_cycle": kicks[:, 0].astype(np.int32), "kick_player": kicks[:, 1].astype(np.int16),
+            "kick_distance": kicks[:, 2].astype(np.float32),
+            "kick_direction": kicks[:, 3].astype(np.float32),
+            "touch_cycle": touches[:, 0].astype(np.int32),
+            "touch_player": touches[:, 1].astype(np.int16),
+            "goal_cycle": goals[:, 0].astype(np.int32), "goal_team": goals[:, 1].astype(np.int8),
+            "goal_player": goals[:, 2].astype(np.int16),
+            "say_bytes": np.stack([r["said"] for r in self._rows]),
+            "say_drops": np.zeros((t, n2), np.uint16),
+            "heard_from": np.zeros((t, n2), np.uint32),
+        }
+
+    def save(self, path: str | Path, metadata: dict[str, Any]) -> Path:
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        f = self.field
+        meta = dict(metadata, format=REPLAY_FORMAT, field=self.field_name, team_size=self.n,
+                    cycle_s=CYCLE_S, half_length=float(f.half_length),
+                    half_width=float(f.half_width), half_goal_width=float(f.half_goal_width),
+                    extras=False, world="league (rcsssmj LocalServer)")
+        with open(path, "wb") as fh:
+            np.savez_compressed(fh, **self.arrays(),
+                                metadata=np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8))
+        return path
