@@ -16,6 +16,7 @@ Commands (each prints what it measured; see docs/league.md for the numbers):
     python benchmarks/league_walker_tune.py --check                  # LEAGUE_WALK, local plant
     python benchmarks/league_walker_tune.py --check --real           # ... and on the real server
     python benchmarks/league_walker_tune.py --check --params '{}'    # the native-MuJoCo defaults
+    python benchmarks/league_walker_tune.py --envelope               # LEAGUE_WALK's speed limits
     python benchmarks/league_walker_tune.py --generations 25 --workers 2 --out tuned.json
 """
 
@@ -75,13 +76,18 @@ BOX = {
     "tilt_ik": (0.0, 0.4),
 }
 SCALE = np.array([0.1, 0.1, 0.3])
+#: the trials start from these beam poses in turn (left team frame), so a candidate that only
+#: works from one spot does not score
+STARTS = ((-5.0, 0.0, 0.0), (-12.0, 3.0, 0.5), (-20.0, -6.0, -1.0), (-3.0, 8.0, 2.0))
 SETTLE_S = 1.5  # the walker stands 0.5 s and slews its command: velocity is measured after
 
 
 def trial_score(params: WalkParams, name: str, seconds: float, real: bool = False) -> dict:
     spec = TRIALS[name]
     fn = spec if callable(spec) else (lambda t, c=spec: c)
-    r = walk_trial(WalkerController(params), fn, seconds, real_server=real)
+    start = STARTS[list(TRIALS).index(name) % len(STARTS)]
+    r = walk_trial(WalkerController(params, envelope=None), fn, seconds, start=start,
+                   real_server=real)
     share = r.upright_s / seconds
     row = {"trial": name, "fell": r.fell, "upright_s": round(r.upright_s, 2)}
     if callable(spec):
@@ -137,6 +143,26 @@ def search(generations: int, workers: int, seconds: float, seed: int, out: str |
     print(json.dumps({k: round(v, 4) for k, v in best_fields.items()}))
 
 
+#: per axis, commands of growing size (the envelope is the largest that stays up)
+ENVELOPE_AXES = {
+    "vx forward": [(v, 0.0, 0.0) for v in (0.4, 0.5, 0.6, 0.7, 0.8, 1.0)],
+    "vx backward": [(-v, 0.0, 0.0) for v in (0.2, 0.3, 0.4, 0.5)],
+    "vy": [(0.0, v, 0.0) for v in (0.1, 0.15, 0.2, 0.3)],
+    "turn": [(0.0, 0.0, w) for w in (0.6, 0.8, 1.0, 1.3)],
+}
+
+
+def envelope(params: WalkParams, seconds: float) -> None:
+    """Per axis, each command for ``seconds``: up or fell, and the achieved velocity."""
+    for axis, commands in ENVELOPE_AXES.items():
+        for c in commands:
+            r = walk_trial(WalkerController(params, envelope=None), lambda t, c=c: c, seconds)
+            v = achieved_velocity(r.times, r.poses, SETTLE_S)
+            state = f"FELL at {r.upright_s:.1f} s" if r.fell else "up"
+            print(f"  {axis:<12} {c}: {state:<14} achieved "
+                  f"{[round(float(x), 3) for x in v]}", flush=True)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -145,16 +171,21 @@ def main() -> None:
                     help="JSON of WalkParams fields (--check; default LEAGUE_WALK; '{}': the "
                          "native-MuJoCo defaults)")
     ap.add_argument("--real", action="store_true", help="--check on the real rcssservermj too")
+    ap.add_argument("--envelope", action="store_true",
+                    help="the speed limits of the parameters (8 s per command)")
     ap.add_argument("--generations", type=int, default=20)
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--seconds", type=float, default=5.0, help="walking time per trial")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--out", default=None, help="write the best parameters (JSON) here")
     args = ap.parse_args()
-    if not args.check:
+    if not (args.check or args.envelope):
         search(args.generations, args.workers, args.seconds, args.seed, args.out)
         return
     params = LEAGUE_WALK if args.params is None else WalkParams().with_(**json.loads(args.params))
+    if args.envelope:
+        envelope(params, 8.0)
+        return
     for real in (False, True) if args.real else (False,):
         t0 = time.perf_counter()
         total, rows = score(params, args.seconds, real)

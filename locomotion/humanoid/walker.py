@@ -237,6 +237,15 @@ class LipmWalker:
         com = np.array([x, y]) + R @ self.com_off
         self.state = np.array([[com[0], 0, 0], [com[1], 0, 0]], dtype=float)  # per axis c, c', c''
         self.origin = np.array([x, y], dtype=float)  # frame of the preview law (see update)
+        # the IK's Jacobians read com-based data (cdof, subtree_com) that only mj_comPos
+        # updates, i.e. from the previous solution: move the kinematic model to the new pose
+        # first, or a walk reset metres away from it starts from a wrong Jacobian and diverges
+        kin = self.kin
+        kin.qpos[:] = self.t1.q_stance
+        kin.qpos[0:2] = (x, y)
+        kin.qpos[3:7] = _quat_rpy(0.0, 0.0, yaw)
+        self.mj.mj_kinematics(self.m, kin)
+        self.mj.mj_comPos(self.m, kin)
         self.err = np.zeros(2)
         self.swing = "Left"
         self.t_step = -0.5  # stand 0.5 s (ZMP at the centre) before the first step

@@ -89,9 +89,11 @@ def test_shipped_lipm_profile_is_humanoid_measured() -> None:
 
 
 def test_walker_started_away_from_the_origin_walks_as_at_the_origin(t1) -> None:
-    """The preview law once ran in world coordinates; its bias grows with the distance from
-    (0, 0), so a walker reset at (-5, 0) (where the league server beams a player) fell within
-    ~1 s. It now runs in the frame of the pose it was reset at."""
+    """Two bugs made the walker depend on where it stood: the preview law ran in world
+    coordinates (its bias grows with the distance from (0, 0): reset at (-5, 0), where the
+    league server beams a player, it fell within ~1 s), and the IK's first Jacobian after a
+    reset came from the kinematic model's old place (8 m away it diverged at once). It now
+    runs in the frame of the pose it was reset at, with the model moved there."""
     import dataclasses
 
     import mujoco
@@ -119,7 +121,7 @@ def test_walker_started_away_from_the_origin_walks_as_at_the_origin(t1) -> None:
             mujoco.mj_step(t.model, data)
         return np.array(path)
 
-    here, away = walk(0.0), walk(-5.0)
+    here, away = walk(0.0), walk(-12.0)
     assert away[-1, 0] > 0.2 and abs(away[-1, 1]) < 0.1  # walked forward, did not fall
     np.testing.assert_allclose(away, here, atol=2e-3)
 
