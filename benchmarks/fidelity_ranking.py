@@ -39,6 +39,43 @@ def points_per_match(records: Sequence[Any]) -> dict[str, float]:
     return {t: float(np.mean(v)) for t, v in pts.items()}
 
 
+def goal_diff_per_match(records: Sequence[Any]) -> dict[str, float]:
+    """Mean goal difference per match (official scores) of every team: finer than points when
+    most matches are draws."""
+    gd: dict[str, list[int]] = defaultdict(list)
+    for r in records:
+        lo, ro = r.left_official, r.right_official
+        gd[r.left_team].append(lo - ro)
+        gd[r.right_team].append(ro - lo)
+    return {t: float(np.mean(v)) for t, v in gd.items()}
+
+
+METRICS = {"points": points_per_match, "goal_diff": goal_diff_per_match}
+
+#: per-match game statistics compared side by side (teamenv.analytics.stats, per team)
+STAT_KEYS = ("goals", "kicks", "shots", "xg", "possession_pct", "ball_progress_m", "falls",
+             "distance_walked_m")
+
+
+def world_stats(team_stats: dict[int, dict[str, dict]]) -> dict[str, float]:
+    """Means over a tournament's matches of the per-match totals (both teams) of
+    ``STAT_KEYS`` (possession: the mean of the two teams' shares), and the share of PlayOn
+    time the ball spent in the attacking third of either team (``attacking_third_pct``)
+    and in the middle third (``middle_third_pct``). ``team_stats``: ``ResultStore.team_stats``
+    (match id -> side -> the team's statistics)."""
+    if not team_stats:
+        return {}
+    rows = []
+    for sides in team_stats.values():
+        teams = [sides[s] for s in ("left", "right") if s in sides]
+        row = {k: float(sum(t.get(k) or 0.0 for t in teams)) for k in STAT_KEYS}
+        row["possession_pct"] /= max(len(teams), 1)
+        row["attacking_third_pct"] = float(sum(t["third_pct"]["attacking"] for t in teams))
+        row["middle_third_pct"] = float(np.mean([t["third_pct"]["middle"] for t in teams]))
+        rows.append(row)
+    return {k: float(np.mean([r[k] for r in rows])) for k in rows[0]} | {"matches": len(rows)}
+
+
 def rank_agreement(a: dict[str, float], b: dict[str, float]) -> tuple[float, float]:
     """(Spearman rho, Kendall tau-b) between two team -> score maps over their common teams;
     NaN when either side has fewer than 2 teams or all its scores are equal."""
@@ -65,19 +102,24 @@ class Agreement:
 
 
 def bootstrap_agreement(records_a: Sequence[Any], records_b: Sequence[Any], n_boot: int,
-                        rng: np.random.Generator, level: float = 0.95) -> Agreement:
-    """Rank agreement of two worlds' tournaments with bootstrap intervals (``rng`` passed in)."""
+                        rng: np.random.Generator, level: float = 0.95,
+                        metric: str = "points") -> Agreement:
+    """Rank agreement of two worlds' tournaments with bootstrap intervals (``rng`` passed in);
+    teams ranked by ``metric`` (``METRICS``)."""
+    if metric not in METRICS:
+        raise ValueError(f"metric must be one of {sorted(METRICS)}, got {metric!r}")
+    score = METRICS[metric]
     if n_boot < 1:
         raise ValueError(f"n_boot must be >= 1, got {n_boot}")
     if not records_a or not records_b:
         raise ValueError("both tournaments need at least one match")
-    pa, pb = points_per_match(records_a), points_per_match(records_b)
+    pa, pb = score(records_a), score(records_b)
     rho, tau = rank_agreement(pa, pb)
     rhos, taus = [], []
     for _ in range(n_boot):
         sa = [records_a[i] for i in rng.integers(0, len(records_a), len(records_a))]
         sb = [records_b[i] for i in rng.integers(0, len(records_b), len(records_b))]
-        r, t = rank_agreement(points_per_match(sa), points_per_match(sb))
+        r, t = rank_agreement(score(sa), score(sb))
         if not (math.isnan(r) or math.isnan(t)):
             rhos.append(r)
             taus.append(t)
@@ -97,25 +139,64 @@ def _records(db: str, name: str) -> list[Any]:
         return store.matches(tid)
 
 
+def _team_stats(db: str, name: str) -> dict[int, dict[str, dict]]:
+    from teamenv.tournament import ResultStore
+
+    with ResultStore(db) as store:
+        tid, _ = store.get_tournament(name)
+        return store.team_stats(tid)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--teamenv-db", required=True)
     ap.add_argument("--teamenv-name", required=True)
     ap.add_argument("--league-db", required=True)
     ap.add_argument("--league-name", required=True)
+    ap.add_argument("--calibrated-db", default=None,
+                    help="a second teamenv tournament (e.g. with the t1_league profile)")
+    ap.add_argument("--calibrated-name", default=None)
     ap.add_argument("--bootstrap", type=int, default=1000)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--json", default=None, help="write the result here")
     args = ap.parse_args(argv)
-    a = _records(args.teamenv_db, args.teamenv_name)
-    b = _records(args.league_db, args.league_name)
-    result = bootstrap_agreement(a, b, args.bootstrap, np.random.default_rng(args.seed))
-    print(f"{result.teams} teams: Spearman rho {result.rho:.3f} {result.rho_ci}, "
-          f"Kendall tau {result.tau:.3f} {result.tau_ci} ({result.usable}/{result.resamples} "
-          "usable resamples)")
+    worlds = {"teamenv": (args.teamenv_db, args.teamenv_name)}
+    if args.calibrated_db:
+        worlds["teamenv calibrated"] = (args.calibrated_db,
+                                        args.calibrated_name or args.teamenv_name)
+    league = _records(args.league_db, args.league_name)
+    out: dict[str, Any] = {"league_matches": len(league), "agreement": {}, "stats": {},
+                           "ranking": {}}
+    out["ranking"]["league"] = {m: METRICS[m](league) for m in METRICS}
+    for world, (db, name) in worlds.items():
+        records = _records(db, name)
+        out["ranking"][world] = {m: METRICS[m](records) for m in METRICS}
+        for metric in METRICS:
+            result = bootstrap_agreement(records, league, args.bootstrap,
+                                         np.random.default_rng(args.seed), metric=metric)
+            out["agreement"][f"{world} vs league, {metric}"] = asdict(result)
+            print(f"{world} ({len(records)} matches) vs league ({len(league)}), by {metric}: "
+                  f"{result.teams} teams, Spearman rho {result.rho:.3f} "
+                  f"[{result.rho_ci[0]:.2f}, {result.rho_ci[1]:.2f}], Kendall tau "
+                  f"{result.tau:.3f} [{result.tau_ci[0]:.2f}, {result.tau_ci[1]:.2f}] "
+                  f"({result.usable}/{result.resamples} usable resamples)")
+    for world in out["ranking"]:
+        for metric, table in out["ranking"][world].items():
+            order = sorted(table, key=lambda t: -table[t])
+            print(f"  {world:<20} by {metric:<9}: " + ", ".join(f"{t} {table[t]:+.2f}"
+                                                                for t in order))
+    stats_worlds = {**worlds, "league": (args.league_db, args.league_name)}
+    for world, (db, name) in stats_worlds.items():
+        out["stats"][world] = world_stats(_team_stats(db, name))
+    keys = [k for k in next(iter(out["stats"].values()), {}) if k != "matches"]
+    if keys:
+        print("per match (both teams):" + "".join(f"{w:>22}" for w in out["stats"]))
+        for k in keys:
+            print(f"  {k:<22}" + "".join(f"{out['stats'][w].get(k, math.nan):>22.2f}"
+                                         for w in out["stats"]))
     if args.json:
         with open(args.json, "w") as f:
-            json.dump(asdict(result), f, indent=2)
+            json.dump(out, f, indent=2)
     return 0
 
 

@@ -17,6 +17,7 @@ Commands (each prints what it measured; see docs/league.md for the numbers):
     python benchmarks/league_walker_tune.py --check --real           # ... and on the real server
     python benchmarks/league_walker_tune.py --check --params '{}'    # the native-MuJoCo defaults
     python benchmarks/league_walker_tune.py --envelope               # LEAGUE_WALK's speed limits
+    python benchmarks/league_walker_tune.py --tracking               # the t1_league profile's curves
     python benchmarks/league_walker_tune.py --generations 25 --workers 2 --out tuned.json
 """
 
@@ -163,6 +164,30 @@ def envelope(params: WalkParams, seconds: float) -> None:
                   f"{[round(float(x), 3) for x in v]}", flush=True)
 
 
+#: commands for the tracking curves of the ``t1_league`` profile (through WalkerController with
+#: LEAGUE_ENVELOPE, as a league match walks)
+TRACKING = {
+    "vx": [(v, 0.0, 0.0) for v in (-1.0, -0.3, -0.15, 0.15, 0.3, 0.45, 1.0, 1.5)],
+    "vy": [(0.0, v, 0.0) for v in (-0.4, -0.15, 0.1, 0.15, 0.4)],
+    "turn": [(0.0, 0.0, w) for w in (-1.5, -1.0, -0.5, 0.5, 1.0, 1.5)],
+}
+
+
+def tracking(params: WalkParams, seconds: float) -> None:
+    """Commanded -> achieved per axis (8 s runs, from the second STARTS pose), as JSON."""
+    out = {}
+    for axis, commands in TRACKING.items():
+        k = ("vx", "vy", "turn").index(axis)
+        points = []
+        for c in commands:
+            r = walk_trial(WalkerController(params), lambda t, c=c: c, seconds, start=STARTS[1])
+            v = achieved_velocity(r.times, r.poses, SETTLE_S)
+            points.append([c[k], None if r.fell else round(float(v[k]), 3)])
+        out[axis] = points
+        print(f"  {axis}: {points}", flush=True)
+    print(json.dumps(out))
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -173,18 +198,23 @@ def main() -> None:
     ap.add_argument("--real", action="store_true", help="--check on the real rcssservermj too")
     ap.add_argument("--envelope", action="store_true",
                     help="the speed limits of the parameters (8 s per command)")
+    ap.add_argument("--tracking", action="store_true",
+                    help="commanded -> achieved through LEAGUE_ENVELOPE (8 s per command)")
     ap.add_argument("--generations", type=int, default=20)
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--seconds", type=float, default=5.0, help="walking time per trial")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--out", default=None, help="write the best parameters (JSON) here")
     args = ap.parse_args()
-    if not (args.check or args.envelope):
+    if not (args.check or args.envelope or args.tracking):
         search(args.generations, args.workers, args.seconds, args.seed, args.out)
         return
     params = LEAGUE_WALK if args.params is None else WalkParams().with_(**json.loads(args.params))
     if args.envelope:
         envelope(params, 8.0)
+        return
+    if args.tracking:
+        tracking(params, 8.0)
         return
     for real in (False, True) if args.real else (False,):
         t0 = time.perf_counter()

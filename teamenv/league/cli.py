@@ -43,6 +43,10 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     t.add_argument("--resume", action="store_true", help="play what is missing of --name")
     t.add_argument("--log-dir", default=None, help="where the servers' logs go (default: tmp)")
     t.add_argument("--server", default="real", choices=("real", "local"), help=SERVER_HELP)
+    t.add_argument("-j", "--jobs", type=int, default=1,
+                   help="matches at once, each in its own process and server (default 1)")
+    t.add_argument("--replay-dir", default=None,
+                   help="record every match here and store its statistics (--server local)")
     t.set_defaults(func=_run_tournament)
 
 
@@ -92,7 +96,8 @@ def _run_tournament(args: argparse.Namespace) -> int:
 
     summary = run_league_tournament(args.name, args.db, teams, options, games=args.games,
                                     seed=args.seed, resume=args.resume, log_dir=args.log_dir,
-                                    on_match=report, server=args.server)
+                                    on_match=report, server=args.server, workers=args.jobs,
+                                    replay_dir=args.replay_dir)
     print(f"{args.name}: {summary.played} played, {summary.skipped} already stored, "
           f"{summary.scheduled} scheduled ({summary.wall_s:.0f} s wall)")
     return 0

@@ -45,35 +45,61 @@ def league_round_robin(name: str, teams: Sequence[str], options: LeagueMatchOpti
 
 class LeagueBackend:
     """A tournament backend (``teamenv.tournament.run_tournament(backend=...)``) that plays each
-    task on the league server, one after another in this process: ``play(left, right,
-    options, seed, log_dir)`` (default ``play_league_match``) with the task's team labels and
-    seed and league options made from the task's (team size, the half's length as the game).
-    ``on_match(k, n, result)`` after the k-th of the n matches of this run is stored."""
+    task on the league server: ``play(left, right, options, seed, log_dir, replay_path)``
+    (default ``play_league_match``) with the task's team labels, seed and replay path and
+    league options made from the task's (team size, the half's length as the game).
+    ``workers`` > 1 plays that many matches at once in worker processes (``spawn``; each match
+    on its own server), else one after another in this process. ``on_match(k, n, result)``
+    after the k-th of the n matches of this run is stored."""
 
     name = "league"
-    workers = 1
 
     def __init__(self, play: Callable[..., MatchResult] | None = None,
                  log_dir: str | Path | None = None,
                  on_match: Callable[[int, int, MatchResult], None] | None = None,
-                 server: str = "real") -> None:
+                 server: str = "real", workers: int = 1) -> None:
+        if workers < 1:
+            raise LeagueError(f"league backend: workers must be >= 1, not {workers}")
         self.play = play or play_league_match
         self.log_dir = log_dir
         self.on_match = on_match
         self.server = server
+        self.workers = workers
+
+    def _call(self, task: MatchTask) -> tuple[Callable[..., MatchResult], tuple, dict]:
+        options = LeagueMatchOptions(team_size=task.options.team_size,
+                                     game_s=task.options.half_time_s, server=self.server)
+        kwargs = {"seed": task.seed, "log_dir": self.log_dir}
+        if task.replay_path is not None:
+            kwargs["replay_path"] = task.replay_path
+        return self.play, (task.left.label, task.right.label, options), kwargs
 
     def run(self, tasks: Sequence[MatchTask]) -> Iterator[Outcome]:
         from teamenv.tournament.backends import Outcome
 
-        for k, task in enumerate(tasks, 1):
-            options = LeagueMatchOptions(team_size=task.options.team_size,
-                                         game_s=task.options.half_time_s, server=self.server)
-            result = self.play(task.left.label, task.right.label, options, seed=task.seed,
-                               log_dir=self.log_dir)
-            yield Outcome(task, result)
-            # resumed after the tournament runner stored the match
-            if self.on_match is not None:
-                self.on_match(k, len(tasks), result)
+        if self.workers == 1:
+            for k, task in enumerate(tasks, 1):
+                play, args, kwargs = self._call(task)
+                result = play(*args, **kwargs)
+                yield Outcome(task, result)
+                # resumed after the tournament runner stored the match
+                if self.on_match is not None:
+                    self.on_match(k, len(tasks), result)
+            return
+        import multiprocessing
+        from concurrent.futures import ProcessPoolExecutor, as_completed
+
+        with ProcessPoolExecutor(self.workers,
+                                 mp_context=multiprocessing.get_context("spawn")) as pool:
+            futures = {}
+            for task in tasks:
+                play, args, kwargs = self._call(task)
+                futures[pool.submit(play, *args, **kwargs)] = task
+            for k, future in enumerate(as_completed(futures), 1):
+                result = future.result()  # a TeamFault stops the run, as in one process
+                yield Outcome(futures[future], result)
+                if self.on_match is not None:
+                    self.on_match(k, len(tasks), result)
 
 
 def run_league_tournament(
@@ -82,7 +108,7 @@ def run_league_tournament(
     resume: bool = False, log_dir: str | Path | None = None,
     on_match: Callable[[int, int, MatchResult], None] | None = None,
     play: Callable[..., MatchResult] | None = None, progress: bool = False,
-    server: str = "real",
+    server: str = "real", workers: int = 1, replay_dir: str | Path | None = None,
 ) -> LeagueTournamentSummary:
     """Play (or, with ``resume``, finish) league round robin ``name`` in ``db``.
 
@@ -91,7 +117,9 @@ def run_league_tournament(
     k-th stored match of the n this run plays; ``play`` is the match function (default
     ``play_league_match``; tests pass a stand-in); ``progress``: the tournament runner's live
     table; ``server``: "real" or "local" (``LeagueMatchOptions.server``; not part of the
-    stored definition, so a run may be resumed on either). The database errors (a name that exists, nothing to resume, a definition that
+    stored definition, so a run may be resumed on either); ``workers``: matches at once;
+    ``replay_dir``: record every match there (``server="local"`` only) and store its
+    statistics (``teamenv.analytics.stats``, as the env's tournaments do). The database errors (a name that exists, nothing to resume, a definition that
     differs) are the tournament module's ``StoreError``."""
     from teamenv.tournament import run_tournament
 
@@ -99,10 +127,14 @@ def run_league_tournament(
         raise LeagueError("give both the teams and the options (or neither, to resume)")
     if teams is None and not resume:
         raise LeagueError("a new league tournament needs its teams and options")
+    if replay_dir is not None and server != "local":
+        raise LeagueError("league replays need server='local' (the recorder reads the "
+                          "simulation)")
     tournament = None if teams is None else league_round_robin(name, teams, options, games,
                                                                 seed)
     summary = run_tournament(tournament, db, name=name, resume=resume,
-                             backend=LeagueBackend(play, log_dir, on_match, server),
-                             progress=progress, stats=False)
+                             backend=LeagueBackend(play, log_dir, on_match, server, workers),
+                             progress=progress, stats=replay_dir is not None,
+                             replay_dir=replay_dir)
     return LeagueTournamentSummary(summary.scheduled, summary.played, summary.skipped,
                                    summary.wall_s)

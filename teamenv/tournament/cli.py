@@ -39,6 +39,9 @@ def add_tournament_commands(subparsers: argparse._SubParsersAction) -> None:
     run.add_argument("--vision", default=None, help="vision profile with --observation vision: "
                      "simspark (default) | mj")
     run.add_argument("--channel", default="simspark", help="say channel: simspark | mj")
+    run.add_argument("--locomotion-profile", default="t1_mj",
+                     help="robot profile: a shipped name (t1_mj, t1_league, t1_lipm, "
+                          "nao_simspark) or a JSON path (default t1_mj)")
     run.add_argument("--cycle-budget", type=float, default=None,
                      help="a team whose act() takes longer (s) in any cycle forfeits")
     run.add_argument("--stall-timeout", type=float, default=10.0,
@@ -106,7 +109,7 @@ def _definition(args: argparse.Namespace) -> Any:
     options = MatchOptions(field=args.field, team_size=args.team_size,
                            half_time_s=args.half_time, halves=args.halves,
                            observation_mode=args.observation, channel=args.channel,
-                           vision=args.vision)
+                           vision=args.vision, locomotion_profile=args.locomotion_profile)
     return Tournament(
         name=args.name or DEFAULT_NAME, teams=tuple(args.teams),
         format=args.format.replace("-", "_"), challenger=args.challenger,

@@ -71,3 +71,30 @@ def test_bootstrap_is_seeded_and_checks_input():
         fr.bootstrap_agreement(a, b, 0, np.random.default_rng(0))
     with pytest.raises(ValueError, match="at least one match"):
         fr.bootstrap_agreement([], b, 10, np.random.default_rng(0))
+
+
+def test_goal_difference_ranks_what_points_cannot_split():
+    recs = [SimpleNamespace(left_team="a", right_team="b", left_official=3, right_official=0),
+            SimpleNamespace(left_team="b", right_team="c", left_official=1, right_official=0),
+            SimpleNamespace(left_team="a", right_team="c", left_official=1, right_official=0)]
+    assert fr.goal_diff_per_match(recs) == {"a": 2.0, "b": -1.0, "c": -1.0}
+    with pytest.raises(ValueError, match="metric must be one of"):
+        fr.bootstrap_agreement(recs, recs, 10, np.random.default_rng(0), metric="elo")
+    agreement = fr.bootstrap_agreement(recs, recs, 50, np.random.default_rng(0),
+                                       metric="goal_diff")
+    assert agreement.rho == pytest.approx(1.0)
+
+
+def test_world_stats_are_per_match_totals():
+    def team(goals, kicks, attacking, middle, possession):
+        return {"goals": goals, "kicks": kicks, "shots": 0, "xg": 0.1, "possession_pct": possession,
+                "ball_progress_m": 1.0, "falls": 2, "distance_walked_m": 10.0,
+                "third_pct": {"attacking": attacking, "middle": middle,
+                              "defensive": 100 - attacking - middle}}
+    stats = {1: {"left": team(1, 4, 30, 40, 60), "right": team(0, 2, 10, 40, 40)},
+             2: {"left": team(0, 0, 0, 100, 50), "right": team(0, 2, 0, 100, 50)}}
+    w = fr.world_stats(stats)
+    assert w["matches"] == 2 and w["goals"] == 0.5 and w["kicks"] == 4.0
+    assert w["falls"] == 4.0 and w["possession_pct"] == 50.0
+    assert w["attacking_third_pct"] == 20.0 and w["middle_third_pct"] == 70.0
+    assert fr.world_stats({}) == {}
