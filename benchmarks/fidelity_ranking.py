@@ -51,6 +51,25 @@ def goal_diff_per_match(records: Sequence[Any]) -> dict[str, float]:
 
 
 METRICS = {"points": points_per_match, "goal_diff": goal_diff_per_match}
+#: rankings on a per-match statistic instead of goals (mean difference for - against per
+#: match): for short humanoid matches where nearly every score is 0-0
+STAT_METRICS = {"xg_diff": "xg", "progress_diff": "ball_progress_m"}
+
+
+def stat_records(records: Sequence[Any], team_stats: dict[int, dict[str, dict]],
+                 key: str) -> list[Any]:
+    """The matches with statistic ``key`` in place of the official goals (matches without
+    statistics are left out), so ``goal_diff_per_match`` ranks the teams on it."""
+    from types import SimpleNamespace
+
+    out = []
+    for r in records:
+        sides = team_stats.get(r.id)
+        if sides and "left" in sides and "right" in sides:
+            out.append(SimpleNamespace(left_team=r.left_team, right_team=r.right_team,
+                                       left_official=float(sides["left"].get(key) or 0.0),
+                                       right_official=float(sides["right"].get(key) or 0.0)))
+    return out
 
 #: per-match game statistics compared side by side (teamenv.analytics.stats, per team)
 STAT_KEYS = ("goals", "kicks", "shots", "xg", "possession_pct", "ball_progress_m", "falls",
@@ -165,17 +184,32 @@ def main(argv: Sequence[str] | None = None) -> int:
         worlds["teamenv calibrated"] = (args.calibrated_db,
                                         args.calibrated_name or args.teamenv_name)
     league = _records(args.league_db, args.league_name)
+    league_stats = _team_stats(args.league_db, args.league_name)
     out: dict[str, Any] = {"league_matches": len(league), "agreement": {}, "stats": {},
                            "ranking": {}}
-    out["ranking"]["league"] = {m: METRICS[m](league) for m in METRICS}
+
+    def rankings(records, team_stats):
+        """metric -> (the matches it ranks on, the ranking function)."""
+        sets = {m: (records, METRICS[m]) for m in METRICS}
+        for m, key in STAT_METRICS.items():
+            sets[m] = (stat_records(records, team_stats, key), goal_diff_per_match)
+        return sets
+
+    league_sets = rankings(league, league_stats)
+    out["ranking"]["league"] = {m: fn(recs) for m, (recs, fn) in league_sets.items() if recs}
     for world, (db, name) in worlds.items():
         records = _records(db, name)
-        out["ranking"][world] = {m: METRICS[m](records) for m in METRICS}
-        for metric in METRICS:
-            result = bootstrap_agreement(records, league, args.bootstrap,
-                                         np.random.default_rng(args.seed), metric=metric)
+        sets = rankings(records, _team_stats(db, name))
+        out["ranking"][world] = {m: fn(recs) for m, (recs, fn) in sets.items() if recs}
+        for metric, (recs, _) in sets.items():
+            league_recs = league_sets[metric][0]
+            if not recs or not league_recs:
+                continue
+            result = bootstrap_agreement(
+                recs, league_recs, args.bootstrap, np.random.default_rng(args.seed),
+                metric="points" if metric == "points" else "goal_diff")
             out["agreement"][f"{world} vs league, {metric}"] = asdict(result)
-            print(f"{world} ({len(records)} matches) vs league ({len(league)}), by {metric}: "
+            print(f"{world} ({len(recs)} matches) vs league ({len(league_recs)}), by {metric}: "
                   f"{result.teams} teams, Spearman rho {result.rho:.3f} "
                   f"[{result.rho_ci[0]:.2f}, {result.rho_ci[1]:.2f}], Kendall tau "
                   f"{result.tau:.3f} [{result.tau_ci[0]:.2f}, {result.tau_ci[1]:.2f}] "
@@ -183,8 +217,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     for world in out["ranking"]:
         for metric, table in out["ranking"][world].items():
             order = sorted(table, key=lambda t: -table[t])
-            print(f"  {world:<20} by {metric:<9}: " + ", ".join(f"{t} {table[t]:+.2f}"
-                                                                for t in order))
+            print(f"  {world:<20} by {metric:<13}: " + ", ".join(f"{t} {table[t]:+.2f}"
+                                                                    for t in order))
     stats_worlds = {**worlds, "league": (args.league_db, args.league_name)}
     for world, (db, name) in stats_worlds.items():
         out["stats"][world] = world_stats(_team_stats(db, name))

@@ -98,3 +98,14 @@ def test_world_stats_are_per_match_totals():
     assert w["falls"] == 4.0 and w["possession_pct"] == 50.0
     assert w["attacking_third_pct"] == 20.0 and w["middle_third_pct"] == 70.0
     assert fr.world_stats({}) == {}
+
+
+def test_rankings_on_a_statistic_use_the_matches_that_have_it():
+    recs = [SimpleNamespace(id=1, left_team="a", right_team="b", left_official=0, right_official=0),
+            SimpleNamespace(id=2, left_team="b", right_team="a", left_official=0, right_official=0),
+            SimpleNamespace(id=3, left_team="a", right_team="b", left_official=0, right_official=0)]
+    stats = {1: {"left": {"xg": 0.5}, "right": {"xg": 0.1}},
+             2: {"left": {"xg": 0.2}, "right": {"xg": 0.4}}}     # match 3 has none
+    rows = fr.stat_records(recs, stats, "xg")
+    assert len(rows) == 2
+    assert fr.goal_diff_per_match(rows) == pytest.approx({"a": 0.3, "b": -0.3})
