@@ -166,12 +166,36 @@ def _team_stats(db: str, name: str) -> dict[int, dict[str, dict]]:
         return store.team_stats(tid)
 
 
+def relatch_league_falls(records: Sequence[Any], team_stats: dict[int, dict[str, dict]]) -> int:
+    """League replays recorded before ``latch_falls`` counted a robot flickering across the
+    fall test as several falls: recount each match's falls from its replay with the latch
+    (a no-op for newer replays). Returns the number of matches recounted."""
+    from pathlib import Path
+
+    from teamenv.league.replay import latch_falls
+    from teamenv.replay import load_replay
+
+    done = 0
+    for r in records:
+        sides = team_stats.get(r.id)
+        if not sides or not r.replay_path or not Path(r.replay_path).is_file():
+            continue
+        replay = load_replay(r.replay_path)
+        fallen = latch_falls(replay.fallen)
+        falls = (np.diff(fallen.astype(np.int8), axis=0) == 1).sum(axis=0) + fallen[0]
+        n = replay.team_size
+        sides["left"]["falls"], sides["right"]["falls"] = int(falls[:n].sum()), int(falls[n:].sum())
+        done += 1
+    return done
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--teamenv-db", required=True)
     ap.add_argument("--teamenv-name", required=True)
     ap.add_argument("--league-db", required=True)
-    ap.add_argument("--league-name", required=True)
+    ap.add_argument("--league-name", required=True,
+                    help="league tournament name; several, comma-separated, pool their matches")
     ap.add_argument("--calibrated-db", default=None,
                     help="a second teamenv tournament (e.g. with the t1_league profile)")
     ap.add_argument("--calibrated-name", default=None)
@@ -183,8 +207,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.calibrated_db:
         worlds["teamenv calibrated"] = (args.calibrated_db,
                                         args.calibrated_name or args.teamenv_name)
-    league = _records(args.league_db, args.league_name)
-    league_stats = _team_stats(args.league_db, args.league_name)
+    league = []
+    league_stats: dict[int, dict[str, dict]] = {}
+    for name in args.league_name.split(","):   # several league tournaments pool their matches
+        recs = _records(args.league_db, name)
+        league += recs
+        league_stats |= _team_stats(args.league_db, name)
+    relatch_league_falls(league, league_stats)
     out: dict[str, Any] = {"league_matches": len(league), "agreement": {}, "stats": {},
                            "ranking": {}}
 
@@ -219,9 +248,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             order = sorted(table, key=lambda t: -table[t])
             print(f"  {world:<20} by {metric:<13}: " + ", ".join(f"{t} {table[t]:+.2f}"
                                                                     for t in order))
-    stats_worlds = {**worlds, "league": (args.league_db, args.league_name)}
-    for world, (db, name) in stats_worlds.items():
+    for world, (db, name) in worlds.items():
         out["stats"][world] = world_stats(_team_stats(db, name))
+    out["stats"]["league"] = world_stats(league_stats)
     keys = [k for k in next(iter(out["stats"].values()), {}) if k != "matches"]
     if keys:
         print("per match (both teams):" + "".join(f"{w:>22}" for w in out["stats"]))

@@ -3,7 +3,9 @@ matches get the same statistics (``teamenv.analytics.stats.match_stats``) as the
 
 Every cycle the recorder reads the server's simulation (the monitor's view, ground truth): the
 ball (x, y, vx, vy), each robot's torso (x, y, yaw), who is down (the observation's fall test:
-torso tilted past 60 degrees or lower than 0.4 m), the game state of the perceptions (time,
+torso tilted past 60 degrees or lower than 0.4 m; ``latch_falls``: a robot stays fallen until it
+has been up for ``RECOVER_CYCLES``, so one lying robot flickering across the test is one fall),
+the game state of the perceptions (time,
 play mode, score), and which robots touch the ball (MuJoCo contacts between the ball and a
 robot's geoms). The server has no kick action (our kick is a walk through the ball, see
 ``adapter.RequestEncoder``), so a **kick** is a ball contact by a robot whose team asked it to
@@ -31,9 +33,26 @@ from .controller import CYCLE_S
 from .observation import FALL_HEIGHT_M, FALL_TILT, play_mode_index
 from .perception import GameState
 
+#: a robot that was down counts as up again only after this many cycles in a row up (a robot
+#: lying half on its side flickers across the 60-degree test; that is one fall, not several)
+RECOVER_CYCLES = 25
 KICK_WINDOW_CYCLES = 10
 KICK_GRACE_CYCLES = 15
 KICK_FOLLOW_CYCLES = 150  # 3 s: how long the ball is followed to measure a kick
+
+
+def latch_falls(down: np.ndarray, recover: int = RECOVER_CYCLES) -> np.ndarray:
+    """(T, P) fallen flags from the per-cycle fall test ``down``: once down, a robot stays
+    fallen until it has been up for ``recover`` cycles in a row."""
+    down = np.asarray(down, bool)
+    out = np.zeros_like(down)
+    fallen = np.zeros(down.shape[1:], bool)
+    up_for = np.zeros(down.shape[1:], np.int64)
+    for t in range(len(down)):
+        up_for = np.where(down[t], 0, up_for + 1)
+        fallen = down[t] | (fallen & (up_for < recover))
+        out[t] = fallen
+    return out
 
 
 class LeagueReplayRecorder:
@@ -143,7 +162,7 @@ class LeagueReplayRecorder:
             "score": np.asarray([r["score"] for r in self._rows], np.int16),
             "time_s": np.asarray([r["time"] for r in self._rows], np.float64),
             "attack_sign": np.ones(t, np.int8),    # one half: left attacks +x
-            "fallen": np.stack([r["fallen"] for r in self._rows]),
+            "fallen": latch_falls(np.stack([r["fallen"] for r in self._rows])),
             "kick_cycle": kicks[:, 0].astype(np.int32), "kick_player": kicks[:, 1].astype(np.int16),
             "kick_distance": kicks[:, 2].astype(np.float32),
             "kick_direction": kicks[:, 3].astype(np.float32),
