@@ -47,6 +47,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="matches at once, each in its own process and server (default 1)")
     t.add_argument("--replay-dir", default=None,
                    help="record every match here and store its statistics (--server local)")
+    t.add_argument("--ray-address", default=None,
+                   help="play the matches as Ray tasks: local (a local Ray instance with --jobs "
+                        "CPUs), auto or ray://host:10001 (a cluster with the humanoid extra)")
     t.set_defaults(func=_run_tournament)
 
 
@@ -97,7 +100,7 @@ def _run_tournament(args: argparse.Namespace) -> int:
     summary = run_league_tournament(args.name, args.db, teams, options, games=args.games,
                                     seed=args.seed, resume=args.resume, log_dir=args.log_dir,
                                     on_match=report, server=args.server, workers=args.jobs,
-                                    replay_dir=args.replay_dir)
+                                    replay_dir=args.replay_dir, ray_address=args.ray_address)
     print(f"{args.name}: {summary.played} played, {summary.skipped} already stored, "
           f"{summary.scheduled} scheduled ({summary.wall_s:.0f} s wall)")
     return 0

@@ -43,13 +43,27 @@ def league_round_robin(name: str, teams: Sequence[str], options: LeagueMatchOpti
                        options=options.match_options())
 
 
+def play_league_task(task: MatchTask, play: Callable[..., MatchResult], server: str,
+                     log_dir: str | Path | None) -> MatchResult:
+    """One tournament task as a league match (module level: a Ray task pickles it)."""
+    options = LeagueMatchOptions(team_size=task.options.team_size,
+                                 game_s=task.options.half_time_s, server=server)
+    kwargs: dict = {"seed": task.seed, "log_dir": log_dir}
+    if task.replay_path is not None:
+        kwargs["replay_path"] = task.replay_path
+    return play(task.left.label, task.right.label, options, **kwargs)
+
+
 class LeagueBackend:
     """A tournament backend (``teamenv.tournament.run_tournament(backend=...)``) that plays each
     task on the league server: ``play(left, right, options, seed, log_dir, replay_path)``
     (default ``play_league_match``) with the task's team labels, seed and replay path and
     league options made from the task's (team size, the half's length as the game).
     ``workers`` > 1 plays that many matches at once in worker processes (``spawn``; each match
-    on its own server), else one after another in this process. ``on_match(k, n, result)``
+    on its own server), else one after another in this process; ``ray_address`` plays them as
+    Ray tasks instead (``"local"``: a local Ray instance with ``workers`` CPUs; ``"auto"`` or
+    ``"ray://host:10001"``: a cluster whose nodes have the humanoid extra), a task that fails
+    there is recorded as a failure and played again on resume. ``on_match(k, n, result)``
     after the k-th of the n matches of this run is stored."""
 
     name = "league"
@@ -57,30 +71,38 @@ class LeagueBackend:
     def __init__(self, play: Callable[..., MatchResult] | None = None,
                  log_dir: str | Path | None = None,
                  on_match: Callable[[int, int, MatchResult], None] | None = None,
-                 server: str = "real", workers: int = 1) -> None:
+                 server: str = "real", workers: int = 1,
+                 ray_address: str | None = None) -> None:
         if workers < 1:
             raise LeagueError(f"league backend: workers must be >= 1, not {workers}")
+        self.ray_address = ray_address
         self.play = play or play_league_match
         self.log_dir = log_dir
         self.on_match = on_match
         self.server = server
         self.workers = workers
 
-    def _call(self, task: MatchTask) -> tuple[Callable[..., MatchResult], tuple, dict]:
-        options = LeagueMatchOptions(team_size=task.options.team_size,
-                                     game_s=task.options.half_time_s, server=self.server)
-        kwargs = {"seed": task.seed, "log_dir": self.log_dir}
-        if task.replay_path is not None:
-            kwargs["replay_path"] = task.replay_path
-        return self.play, (task.left.label, task.right.label, options), kwargs
-
     def run(self, tasks: Sequence[MatchTask]) -> Iterator[Outcome]:
         from teamenv.tournament.backends import Outcome
 
+        settings = {"play": self.play, "server": self.server, "log_dir": self.log_dir}
+        if self.ray_address is not None:
+            from functools import partial
+
+            from teamenv.tournament.backends import RayBackend
+
+            local = self.ray_address == "local"
+            ray = RayBackend(address=None if local else self.ray_address,
+                             num_cpus=self.workers if local else None,
+                             runner=partial(play_league_task, **settings))
+            for k, outcome in enumerate(ray.run(tasks), 1):
+                yield outcome
+                if self.on_match is not None and outcome.result is not None:
+                    self.on_match(k, len(tasks), outcome.result)
+            return
         if self.workers == 1:
             for k, task in enumerate(tasks, 1):
-                play, args, kwargs = self._call(task)
-                result = play(*args, **kwargs)
+                result = play_league_task(task, **settings)
                 yield Outcome(task, result)
                 # resumed after the tournament runner stored the match
                 if self.on_match is not None:
@@ -91,10 +113,7 @@ class LeagueBackend:
 
         with ProcessPoolExecutor(self.workers,
                                  mp_context=multiprocessing.get_context("spawn")) as pool:
-            futures = {}
-            for task in tasks:
-                play, args, kwargs = self._call(task)
-                futures[pool.submit(play, *args, **kwargs)] = task
+            futures = {pool.submit(play_league_task, task, **settings): task for task in tasks}
             for k, future in enumerate(as_completed(futures), 1):
                 result = future.result()  # a TeamFault stops the run, as in one process
                 yield Outcome(futures[future], result)
@@ -109,6 +128,7 @@ def run_league_tournament(
     on_match: Callable[[int, int, MatchResult], None] | None = None,
     play: Callable[..., MatchResult] | None = None, progress: bool = False,
     server: str = "real", workers: int = 1, replay_dir: str | Path | None = None,
+    ray_address: str | None = None,
 ) -> LeagueTournamentSummary:
     """Play (or, with ``resume``, finish) league round robin ``name`` in ``db``.
 
@@ -119,7 +139,8 @@ def run_league_tournament(
     table; ``server``: "real" or "local" (``LeagueMatchOptions.server``; not part of the
     stored definition, so a run may be resumed on either); ``workers``: matches at once;
     ``replay_dir``: record every match there (``server="local"`` only) and store its
-    statistics (``teamenv.analytics.stats``, as the env's tournaments do). The database errors (a name that exists, nothing to resume, a definition that
+    statistics (``teamenv.analytics.stats``, as the env's tournaments do); ``ray_address``:
+    play the matches as Ray tasks (``LeagueBackend``). The database errors (a name that exists, nothing to resume, a definition that
     differs) are the tournament module's ``StoreError``."""
     from teamenv.tournament import run_tournament
 
@@ -133,7 +154,8 @@ def run_league_tournament(
     tournament = None if teams is None else league_round_robin(name, teams, options, games,
                                                                 seed)
     summary = run_tournament(tournament, db, name=name, resume=resume,
-                             backend=LeagueBackend(play, log_dir, on_match, server, workers),
+                             backend=LeagueBackend(play, log_dir, on_match, server, workers,
+                                                   ray_address),
                              progress=progress, stats=replay_dir is not None,
                              replay_dir=replay_dir)
     return LeagueTournamentSummary(summary.scheduled, summary.played, summary.skipped,

@@ -12,7 +12,7 @@ import json
 import multiprocessing
 import os
 from collections import deque
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
@@ -277,11 +277,15 @@ class RayBackend:
     name = "ray"
 
     def __init__(self, address: str | None = None, num_cpus: int | None = None,
-                 max_retries: int = 1, worker_niceness: int | None = 0) -> None:
+                 max_retries: int = 1, worker_niceness: int | None = 0,
+                 runner: Callable[[MatchTask], MatchResult] | None = None) -> None:
         try:
             import ray  # noqa: F401  (the ray extra)
         except ImportError:
             raise MissingExtraError("ray", "ray", "the Ray backend") from None
+        #: what a Ray task runs for one task (default: the env's ``execute_task``; the league
+        #: backend passes its match function)
+        self.runner = runner or execute_task
         self.address = address
         self.num_cpus = num_cpus
         self.max_retries = max_retries
@@ -299,7 +303,7 @@ class RayBackend:
             ray.init(address=self.address, num_cpus=self.num_cpus, include_dashboard=False,
                      log_to_driver=False, configure_logging=False, **extra)
         remote = ray.remote(num_cpus=1, max_retries=self.max_retries,
-                            retry_exceptions=False)(execute_task)
+                            retry_exceptions=False)(_run_task)
         self.workers = max(1, int(ray.cluster_resources().get("CPU", 1)))
         pending = deque(tasks)
         inflight: dict[Any, MatchTask] = {}
@@ -307,7 +311,7 @@ class RayBackend:
             while pending or inflight:
                 while pending and len(inflight) < 2 * self.workers:
                     task = pending.popleft()
-                    inflight[remote.remote(task)] = task
+                    inflight[remote.remote(self.runner, task)] = task
                 ready, _ = ray.wait(list(inflight), num_returns=1)
                 for ref in ready:
                     task = inflight.pop(ref)
@@ -321,6 +325,11 @@ class RayBackend:
                 ray.cancel(ref, force=True)
             if owns:
                 ray.shutdown()
+
+
+def _run_task(runner: Callable[[MatchTask], MatchResult], task: MatchTask) -> MatchResult:
+    """A Ray task: ``runner(task)`` (``ray.remote`` takes functions, not partials)."""
+    return runner(task)
 
 
 def make_backend(backend: str | Backend = "process", jobs: int | None = None,

@@ -108,3 +108,21 @@ def test_cli(tmp_path, monkeypatch, capsys):
     assert "rr: 0 played, 4 already stored" in capsys.readouterr().out
     assert main(["league-tournament", "--db", db, "--name", "other", "--resume"]) == 2
     assert "no tournament 'other' to resume" in capsys.readouterr().err
+
+
+def test_league_round_robin_as_ray_tasks(tmp_path):
+    """--ray-address local: the matches run as Ray tasks and are stored as usual."""
+    pytest.importorskip("ray")
+    import sys
+
+    import ray.cloudpickle
+
+    ray.cloudpickle.register_pickle_by_value(sys.modules[__name__])  # FakePlay, by value
+    db = tmp_path / "rr.sqlite"
+    summary = lt.run_league_tournament("rr", db, TEAMS[:2], OPTS, play=FakePlay(), workers=2,
+                                       ray_address="local")
+    assert summary.played == 2
+    with ResultStore(db) as store:
+        tid, _ = store.get_tournament("rr")
+        rows = league_table(store.matches(tid), TEAMS[:2])
+    assert {r.team: r.points for r in rows} == {"chaser": 4, "static": 1}  # a win, a draw
