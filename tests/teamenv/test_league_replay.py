@@ -71,3 +71,15 @@ def test_league_round_robin_in_two_processes_with_statistics(tmp_path) -> None:
     assert {(m.left_team, m.right_team) for m in matches} == {("chaser", "static"),
                                                              ("static", "chaser")}
     assert len(stats) == 2 and all(s["left"]["distance_walked_m"] >= 0 for s in stats.values())
+
+
+def test_a_robot_flickering_across_the_fall_test_falls_once() -> None:
+    from teamenv.league.replay import latch_falls
+
+    down = np.zeros((80, 2), bool)
+    down[10:13, 0] = down[14, 0] = down[16:18, 0] = True   # lying half on its side
+    down[10:12, 1] = down[60:62, 1] = True                   # two real falls, 48 cycles apart
+    fallen = latch_falls(down, recover=25)
+    falls = (np.diff(fallen.astype(np.int8), axis=0) == 1).sum(axis=0)
+    assert falls.tolist() == [1, 2]
+    assert fallen[17 + 24, 0] and not fallen[17 + 25, 0]     # up again after 25 cycles up
