@@ -166,6 +166,38 @@ def _team_stats(db: str, name: str) -> dict[int, dict[str, dict]]:
         return store.team_stats(tid)
 
 
+def league_fall_context(records: Sequence[Any], near_m: float = 1.0,
+                        early_s: float = 2.0) -> dict[str, float]:
+    """Where league robots fall, from the replays: falls per match, the share with another
+    robot within ``near_m`` just before (5 cycles), and the share in the first ``early_s`` of
+    play."""
+    from pathlib import Path
+
+    from teamenv.league.replay import latch_falls
+    from teamenv.replay import load_replay
+
+    falls = near = early = matches = 0
+    for r in records:
+        if not r.replay_path or not Path(r.replay_path).is_file():
+            continue
+        replay = load_replay(r.replay_path)
+        matches += 1
+        fallen = latch_falls(replay.fallen).astype(np.int8)
+        kick_off = int(np.argmax(replay.play_mode != 0))
+        for row, i in np.argwhere(np.diff(fallen, axis=0) == 1):
+            row = int(row) + 1
+            xy = replay.players[max(row - 5, 0), :, :2]
+            d = np.hypot(*(xy - xy[i]).T)
+            d[i] = np.inf
+            falls += 1
+            near += bool(d.min() < near_m)
+            early += bool((row - kick_off) * float(replay.metadata["cycle_s"]) < early_s)
+    if not falls:
+        return {"matches": matches, "falls": 0}
+    return {"matches": matches, "falls_per_match": falls / max(matches, 1),
+            f"share_within_{near_m:g}_m": near / falls, f"share_first_{early_s:g}_s": early / falls}
+
+
 def relatch_league_falls(records: Sequence[Any], team_stats: dict[int, dict[str, dict]]) -> int:
     """League replays recorded before ``latch_falls`` counted a robot flickering across the
     fall test as several falls: recount each match's falls from its replay with the latch
@@ -215,7 +247,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         league_stats |= _team_stats(args.league_db, name)
     relatch_league_falls(league, league_stats)
     out: dict[str, Any] = {"league_matches": len(league), "agreement": {}, "stats": {},
-                           "ranking": {}}
+                           "ranking": {}, "league_falls": league_fall_context(league)}
+    print("league falls:", {k: round(v, 3) for k, v in out["league_falls"].items()})
 
     def rankings(records, team_stats):
         """metric -> (the matches it ranks on, the ranking function)."""
