@@ -230,13 +230,7 @@ class ReplayRecorder:
             "time_s": np.asarray(self._time, np.float64),
             "attack_sign": np.asarray(self._sign, np.int8),
             "fallen": np.stack(self._fallen) if self._fallen else np.zeros((0, n), bool),
-            "kick_cycle": kicks[:, 0].astype(np.int32), "kick_player": kicks[:, 1].astype(np.int16),
-            "kick_distance": kicks[:, 2].astype(np.float32),
-            "kick_direction": kicks[:, 3].astype(np.float32),
-            "touch_cycle": touches[:, 0].astype(np.int32),
-            "touch_player": touches[:, 1].astype(np.int16),
-            "goal_cycle": goals[:, 0].astype(np.int32), "goal_team": goals[:, 1].astype(np.int8),
-            "goal_player": goals[:, 2].astype(np.int16),
+            **event_arrays(kicks, touches, goals),
             "say_bytes": say_bytes, "say_drops": say_drops, "heard_from": heard_from,
         }
         if self.extras and t:
@@ -265,6 +259,24 @@ class ReplayRecorder:
             np.savez_compressed(fh, **self.arrays(),
                                 metadata=np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8))
         return path
+
+
+def event_arrays(kicks: np.ndarray, touches: np.ndarray, goals: np.ndarray
+                 ) -> dict[str, np.ndarray]:
+    """The kick, touch and goal arrays of a replay file from rows (cycle, player, distance,
+    direction), (cycle, player) and (cycle, team, player), in the file's dtypes."""
+    kicks = np.asarray(kicks, np.float64).reshape(-1, 4)
+    touches = np.asarray(touches, np.int64).reshape(-1, 2)
+    goals = np.asarray(goals, np.int64).reshape(-1, 3)
+    return {
+        "kick_cycle": kicks[:, 0].astype(np.int32), "kick_player": kicks[:, 1].astype(np.int16),
+        "kick_distance": kicks[:, 2].astype(np.float32),
+        "kick_direction": kicks[:, 3].astype(np.float32),
+        "touch_cycle": touches[:, 0].astype(np.int32),
+        "touch_player": touches[:, 1].astype(np.int16),
+        "goal_cycle": goals[:, 0].astype(np.int32), "goal_team": goals[:, 1].astype(np.int8),
+        "goal_player": goals[:, 2].astype(np.int16),
+    }
 
 
 def _quantise(error: np.ndarray, steps: tuple[float, ...]) -> np.ndarray:

@@ -184,11 +184,9 @@ class LocalTeam:
         return dict(self.last)
 
     def act(self, actions: Mapping[int, str] | None = None) -> None:
-        actions = actions or {}
-        unknown = set(actions) - set(self.unums)
-        if unknown:
-            raise LeagueError(f"team {self.team}: actions for unknown agents {sorted(unknown)}")
-        self.server.answer(self.team, {u: actions.get(u) or "(syn)" for u in self.unums})
+        from .team_client import answers
+
+        self.server.answer(self.team, answers(self.team, self.unums, actions))
         self.cycles += 1
 
     def close(self) -> None:

@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from teamenv.field import field_preset
-from teamenv.replay import REPLAY_FORMAT
+from teamenv.replay import REPLAY_FORMAT, event_arrays
 
 from .controller import CYCLE_S
 from .observation import FALL_HEIGHT_M, FALL_TILT, play_mode_index
@@ -152,9 +152,7 @@ class LeagueReplayRecorder:
     def arrays(self) -> dict[str, np.ndarray]:
         t, n2 = len(self._rows), 2 * self.n
         ball = np.stack([r["ball"] for r in self._rows]) if t else np.zeros((0, 4), np.float32)
-        kicks = np.asarray(self._kick_outcomes(ball), np.float64).reshape(-1, 4)
-        touches = np.asarray(self._touches, np.int64).reshape(-1, 2)
-        goals = np.asarray(self._goals, np.int64).reshape(-1, 3)
+        kicks, touches, goals = self._kick_outcomes(ball), self._touches, self._goals
         return {
             "ball": ball,
             "players": np.stack([r["players"] for r in self._rows]),
@@ -163,13 +161,7 @@ class LeagueReplayRecorder:
             "time_s": np.asarray([r["time"] for r in self._rows], np.float64),
             "attack_sign": np.ones(t, np.int8),    # one half: left attacks +x
             "fallen": latch_falls(np.stack([r["fallen"] for r in self._rows])),
-            "kick_cycle": kicks[:, 0].astype(np.int32), "kick_player": kicks[:, 1].astype(np.int16),
-            "kick_distance": kicks[:, 2].astype(np.float32),
-            "kick_direction": kicks[:, 3].astype(np.float32),
-            "touch_cycle": touches[:, 0].astype(np.int32),
-            "touch_player": touches[:, 1].astype(np.int16),
-            "goal_cycle": goals[:, 0].astype(np.int32), "goal_team": goals[:, 1].astype(np.int8),
-            "goal_player": goals[:, 2].astype(np.int16),
+            **event_arrays(kicks, touches, goals),
             "say_bytes": np.stack([r["said"] for r in self._rows]),
             "say_drops": np.zeros((t, n2), np.uint16),
             "heard_from": np.zeros((t, n2), np.uint32),

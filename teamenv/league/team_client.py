@@ -77,12 +77,8 @@ class TeamClient:
 
     def act(self, actions: Mapping[int, str] | None = None) -> None:
         """Answer this cycle: ``actions[unum]`` is the agent's message (``(syn)`` if absent)."""
-        actions = actions or {}
-        unknown = set(actions) - set(self.unums)
-        if unknown:
-            raise LeagueError(f"team {self.team}: actions for unknown agents {sorted(unknown)}")
-        for u in self.unums:
-            self._conns[u].send(actions.get(u) or effectors.SYN)
+        for u, message in answers(self.team, self.unums, actions).items():
+            self._conns[u].send(message)
         self.cycles += 1
 
     def close(self) -> None:
@@ -95,6 +91,16 @@ class TeamClient:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def answers(team: str, unums: Sequence[int], actions: Mapping[int, str] | None) -> dict[int, str]:
+    """Every agent's message of this cycle (``(syn)`` where ``actions`` has none); an action
+    for an agent the team does not have is an error naming it."""
+    actions = actions or {}
+    unknown = set(actions) - set(unums)
+    if unknown:
+        raise LeagueError(f"team {team}: actions for unknown agents {sorted(unknown)}")
+    return {u: actions.get(u) or effectors.SYN for u in unums}
 
 
 def join_teams(clients: Sequence[TeamClient]) -> None:
