@@ -63,10 +63,18 @@ def test_local_server_moves_the_robot_as_the_real_server_does() -> None:
         real = _record(team.perceive()[1], cycle)
     local = _local()
     assert np.ptp(real[:, 3:], axis=0).max() > 0.4        # the arms really swung
-    # the same physics and the same one-cycle action delay: the same trajectory
-    assert np.abs(local - real).max() < 0.01
-    # without the delay (the server's --sequential mode) it is measurably different
-    assert np.abs(_local(delay=0) - real).max() > 0.05
+
+    def beam_row(rows: np.ndarray) -> int:                # the first row at the beam spot
+        return int(np.argmax(np.abs(rows[:, 0] + 5.0) < 0.1))
+
+    # the same one-cycle action delay: the beam lands in the same cycle (without the delay,
+    # the server's --sequential mode, one cycle earlier)
+    assert beam_row(local) == beam_row(real) == beam_row(_local(delay=0)) + 1
+    # the same physics: the same trajectory (idle, equal to the last digit; under a loaded
+    # CI machine the real server's robot has once settled a little differently after joining)
+    k = beam_row(real)
+    assert np.abs(local[k:] - real[k:]).max() < 0.05
+    assert np.median(np.abs(local[k:] - real[k:])) < 0.002
 
 
 def test_local_server_errors_name_the_problem() -> None:
