@@ -166,11 +166,13 @@ def _team_stats(db: str, name: str) -> dict[int, dict[str, dict]]:
         return store.team_stats(tid)
 
 
-def league_fall_context(records: Sequence[Any], near_m: float = 1.0,
-                        early_s: float = 2.0) -> dict[str, float]:
-    """Where league robots fall, from the replays: falls per match, the share with another
-    robot within ``near_m`` just before (5 cycles), and the share in the first ``early_s`` of
-    play."""
+def league_falls(records: Sequence[Any], team_stats: dict[int, dict[str, dict]],
+                 near_m: float = 1.0, early_s: float = 2.0) -> dict[str, float]:
+    """One pass over the league matches' replays. Recounts each match's falls in
+    ``team_stats`` with ``latch_falls`` (replays recorded before the latch counted a robot
+    flickering across the fall test as several falls; a no-op for newer ones), and says where
+    the robots fell: falls per match, the share with another robot within ``near_m`` just
+    before (5 cycles), and the share in the first ``early_s`` of play."""
     from pathlib import Path
 
     from teamenv.league.replay import latch_falls
@@ -183,6 +185,12 @@ def league_fall_context(records: Sequence[Any], near_m: float = 1.0,
         replay = load_replay(r.replay_path)
         matches += 1
         fallen = latch_falls(replay.fallen).astype(np.int8)
+        sides = team_stats.get(r.id)
+        if sides:
+            per_robot = (np.diff(fallen, axis=0) == 1).sum(axis=0) + fallen[0]
+            n = replay.team_size
+            sides["left"]["falls"] = int(per_robot[:n].sum())
+            sides["right"]["falls"] = int(per_robot[n:].sum())
         kick_off = int(np.argmax(replay.play_mode != 0))
         for row, i in np.argwhere(np.diff(fallen, axis=0) == 1):
             row = int(row) + 1
@@ -196,29 +204,6 @@ def league_fall_context(records: Sequence[Any], near_m: float = 1.0,
         return {"matches": matches, "falls": 0}
     return {"matches": matches, "falls_per_match": falls / max(matches, 1),
             f"share_within_{near_m:g}_m": near / falls, f"share_first_{early_s:g}_s": early / falls}
-
-
-def relatch_league_falls(records: Sequence[Any], team_stats: dict[int, dict[str, dict]]) -> int:
-    """League replays recorded before ``latch_falls`` counted a robot flickering across the
-    fall test as several falls: recount each match's falls from its replay with the latch
-    (a no-op for newer replays). Returns the number of matches recounted."""
-    from pathlib import Path
-
-    from teamenv.league.replay import latch_falls
-    from teamenv.replay import load_replay
-
-    done = 0
-    for r in records:
-        sides = team_stats.get(r.id)
-        if not sides or not r.replay_path or not Path(r.replay_path).is_file():
-            continue
-        replay = load_replay(r.replay_path)
-        fallen = latch_falls(replay.fallen)
-        falls = (np.diff(fallen.astype(np.int8), axis=0) == 1).sum(axis=0) + fallen[0]
-        n = replay.team_size
-        sides["left"]["falls"], sides["right"]["falls"] = int(falls[:n].sum()), int(falls[n:].sum())
-        done += 1
-    return done
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -245,9 +230,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         recs = _records(args.league_db, name)
         league += recs
         league_stats |= _team_stats(args.league_db, name)
-    relatch_league_falls(league, league_stats)
     out: dict[str, Any] = {"league_matches": len(league), "agreement": {}, "stats": {},
-                           "ranking": {}, "league_falls": league_fall_context(league)}
+                           "ranking": {}, "league_falls": league_falls(league, league_stats)}
     print("league falls:", {k: round(v, 3) for k, v in out["league_falls"].items()})
 
     def rankings(records, team_stats):

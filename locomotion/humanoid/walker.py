@@ -302,8 +302,9 @@ class LipmWalker:
         return self._limit_landing(out, sup, 1.0 if swing == "Left" else -1.0)
 
     def _zmp_ref(self) -> np.ndarray:
-        """(n_prev, 2) ZMP reference from now over the preview horizon (vectorised; the same
-        arithmetic per point as ``_zmp_ref_loop``, so the same numbers)."""
+        """(n_prev, 2) ZMP reference from now over the preview horizon (vectorised over the
+        points; each point's arithmetic is the point-by-point form's, so the numbers are the
+        same: tests/locomotion/test_humanoid_walk.py)."""
         p = self.p
         ss = p.step_period - p.double_support
         land0 = self._landing()
@@ -330,34 +331,6 @@ class LipmWalker:
             sup, nxt = sups[k], nxts[k]
             frac = ((r - ss) / p.double_support)[:, None]
             out[walk] = np.where((r < ss)[:, None], sup, sup + frac * (nxt - sup))
-        return out
-
-    def _zmp_ref_loop(self) -> np.ndarray:
-        """The point-by-point form of ``_zmp_ref`` (kept as its test's reference)."""
-        p = self.p
-        out = np.empty((self.n_prev, 2))
-        ss = p.step_period - p.double_support
-        land0 = self._landing()
-        for j in range(self.n_prev):
-            tau = self.t_step + j * p.dt
-            if tau < 0:  # initial stand: centre, then move onto the first support foot
-                first_sup = self._zmp_point(self.plan[0][3])
-                mid = 0.5 * (
-                    self._zmp_point(self.feet["Left"]) + self._zmp_point(self.feet["Right"])
-                )
-                a = min(max((tau + p.double_support) / p.double_support, 0.0), 1.0)
-                out[j] = mid + a * (first_sup - mid)
-                continue
-            k = int(tau // p.step_period)
-            r = tau - k * p.step_period
-            if k >= len(self.plan):
-                k, r = len(self.plan) - 1, ss
-            sup = self._zmp_point(self.plan[k][3])
-            if r < ss:
-                out[j] = sup
-            else:  # double support: towards the foot that just landed
-                nxt = self._zmp_point(land0 if k == 0 else self.plan[k][2])
-                out[j] = sup + (r - ss) / p.double_support * (nxt - sup)
         return out
 
     def _feedback_step(self, obs: dict[str, Any]) -> None:

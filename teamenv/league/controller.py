@@ -78,14 +78,19 @@ class LocomotionController(Protocol):
         body frame."""
 
 
+def quat_yaw(w: float, qx: float, qy: float, qz: float) -> float:
+    """Heading (rad) of a world orientation given as a quaternion."""
+    return math.atan2(2 * (w * qz + qx * qy), 1 - 2 * (qy * qy + qz * qz))
+
+
 def torso_pose(perception: Perception) -> tuple[float, float, float]:
     """World (x, y, yaw) of the torso from the ``pos``/``quat`` perceptors (m, m, rad)."""
     try:
         x, y, _ = perception.positions["torso_pos"]
-        w, qx, qy, qz = perception.orientations["torso_quat"]
+        quat = perception.orientations["torso_quat"]
     except KeyError as exc:
         raise LeagueError(f"perception has no {exc.args[0]} (needed for the torso pose)") from None
-    return x, y, math.atan2(2 * (w * qz + qx * qy), 1 - 2 * (qy * qy + qz * qz))
+    return x, y, quat_yaw(*quat)
 
 
 class WalkerController:

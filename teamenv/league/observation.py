@@ -38,7 +38,7 @@ Where the server gives something else than the env, the nearest equivalent is fi
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -91,15 +91,21 @@ def _wrap(a: float) -> float:
     return math.remainder(a, 2 * math.pi)
 
 
+def torso_down(quat: Sequence[float], height: float) -> bool:
+    """Torso (quaternion w, x, y, z; height m) tilted beyond ``FALL_TILT`` or lower than
+    ``FALL_HEIGHT_M``."""
+    _, x, y, _ = quat
+    up_z = 1.0 - 2.0 * (x * x + y * y)  # z of the torso's up axis in the world
+    return up_z < math.cos(FALL_TILT) or height < FALL_HEIGHT_M
+
+
 def is_fallen(p: Perception) -> bool:
-    """Torso tilted beyond ``FALL_TILT`` or lower than ``FALL_HEIGHT_M``."""
+    """``torso_down`` of the perceived torso (False when the perception has no torso pose)."""
     q = p.orientations.get("torso_quat")
     pos = p.positions.get("torso_pos")
     if q is None or pos is None:
         return False
-    _, x, y, _ = q
-    up_z = 1.0 - 2.0 * (x * x + y * y)  # z of the torso's up axis in the world
-    return up_z < math.cos(FALL_TILT) or pos[2] < FALL_HEIGHT_M
+    return torso_down(q, pos[2])
 
 
 class VisionObservationBuilder:

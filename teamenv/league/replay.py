@@ -29,8 +29,8 @@ import numpy as np
 from teamenv.field import field_preset
 from teamenv.replay import REPLAY_FORMAT, event_arrays
 
-from .controller import CYCLE_S
-from .observation import FALL_HEIGHT_M, FALL_TILT, play_mode_index
+from .controller import CYCLE_S, quat_yaw
+from .observation import play_mode_index, torso_down
 from .perception import GameState
 
 #: a robot that was down counts as up again only after this many cycles in a row up (a robot
@@ -104,10 +104,9 @@ class LeagueReplayRecorder:
         players = np.zeros((2 * self.n, 3), np.float32)
         fallen = np.zeros(2 * self.n, bool)
         for i, a in enumerate(self._root_q):
-            x, y, z, w, qx, qy, qz = d.qpos[a:a + 7]
-            players[i] = (x, y, math.atan2(2 * (w * qz + qx * qy), 1 - 2 * (qy * qy + qz * qz)))
-            up = 1.0 - 2.0 * (qx * qx + qy * qy)
-            fallen[i] = up < math.cos(FALL_TILT) or z < FALL_HEIGHT_M
+            x, y, z, *quat = d.qpos[a:a + 7]
+            players[i] = (x, y, quat_yaw(*quat))
+            fallen[i] = torso_down(quat, z)
         self._rows.append({"ball": ball, "players": players, "fallen": fallen,
                            "mode": play_mode_index(game.play_mode, "left"),
                            "score": (game.score_left, game.score_right), "time": game.time,

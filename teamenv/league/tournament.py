@@ -83,6 +83,15 @@ class LeagueBackend:
         self.workers = workers
 
     def run(self, tasks: Sequence[MatchTask]) -> Iterator[Outcome]:
+        for k, outcome in enumerate(self._outcomes(tasks), 1):
+            yield outcome
+            # resumed after the tournament runner stored the match
+            if self.on_match is not None and outcome.result is not None:
+                self.on_match(k, len(tasks), outcome.result)
+
+    def _outcomes(self, tasks: Sequence[MatchTask]) -> Iterator[Outcome]:
+        """Each task's outcome as its match ends: as Ray tasks, in worker processes, or one
+        after another in this process."""
         from teamenv.tournament.backends import Outcome
 
         settings = {"play": self.play, "server": self.server, "log_dir": self.log_dir}
@@ -92,33 +101,23 @@ class LeagueBackend:
             from teamenv.tournament.backends import RayBackend
 
             local = self.ray_address == "local"
-            ray = RayBackend(address=None if local else self.ray_address,
-                             num_cpus=self.workers if local else None,
-                             runner=partial(play_league_task, **settings))
-            for k, outcome in enumerate(ray.run(tasks), 1):
-                yield outcome
-                if self.on_match is not None and outcome.result is not None:
-                    self.on_match(k, len(tasks), outcome.result)
-            return
-        if self.workers == 1:
-            for k, task in enumerate(tasks, 1):
-                result = play_league_task(task, **settings)
-                yield Outcome(task, result)
-                # resumed after the tournament runner stored the match
-                if self.on_match is not None:
-                    self.on_match(k, len(tasks), result)
-            return
-        import multiprocessing
-        from concurrent.futures import ProcessPoolExecutor, as_completed
+            yield from RayBackend(address=None if local else self.ray_address,
+                                  num_cpus=self.workers if local else None,
+                                  runner=partial(play_league_task, **settings)).run(tasks)
+        elif self.workers == 1:
+            for task in tasks:
+                yield Outcome(task, play_league_task(task, **settings))
+        else:
+            import multiprocessing
+            from concurrent.futures import ProcessPoolExecutor, as_completed
 
-        with ProcessPoolExecutor(self.workers,
-                                 mp_context=multiprocessing.get_context("spawn")) as pool:
-            futures = {pool.submit(play_league_task, task, **settings): task for task in tasks}
-            for k, future in enumerate(as_completed(futures), 1):
-                result = future.result()  # a TeamFault stops the run, as in one process
-                yield Outcome(futures[future], result)
-                if self.on_match is not None:
-                    self.on_match(k, len(tasks), result)
+            with ProcessPoolExecutor(self.workers,
+                                     mp_context=multiprocessing.get_context("spawn")) as pool:
+                futures = {pool.submit(play_league_task, task, **settings): task
+                           for task in tasks}
+                for future in as_completed(futures):
+                    # a TeamFault stops the run, as in one process
+                    yield Outcome(futures[future], future.result())
 
 
 def run_league_tournament(

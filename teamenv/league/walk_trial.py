@@ -11,20 +11,16 @@ test). The plant is ``LocalServer`` (rcsssmj in this process, fast) by default, 
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
 from .controller import CYCLE_S, LocomotionController, torso_pose
+from .observation import is_fallen
 from .perception import Perception
 
 Command = tuple[float, float, float]
-
-#: the fall test of the observation adapter (``VisionObservationBuilder``)
-FALLEN_TILT_RAD = math.radians(60.0)
-FALLEN_HEIGHT_M = 0.4
 
 
 @dataclass(frozen=True)
@@ -36,12 +32,6 @@ class WalkTrial:
     poses: np.ndarray
     fell: bool
     upright_s: float
-
-
-def is_down(p: Perception) -> bool:
-    w, qx, qy, _ = p.orientations["torso_quat"]
-    up = 1.0 - 2.0 * (qx * qx + qy * qy)  # z of the torso's up axis
-    return up < math.cos(FALLEN_TILT_RAD) or p.positions["torso_pos"][2] < FALLEN_HEIGHT_M
 
 
 def walk_trial(controller: LocomotionController, command_fn: Callable[[float], Command],
@@ -64,7 +54,7 @@ def walk_trial(controller: LocomotionController, command_fn: Callable[[float], C
         for k in range(walk_cycles):
             times.append(k * CYCLE_S)
             poses.append(torso_pose(p))
-            if is_down(p):
+            if is_fallen(p):
                 return True
             p = cycle(controller.step(command_fn(k * CYCLE_S), p))
         return False

@@ -101,9 +101,9 @@ def test_one_agent_walks_towards_a_point_on_the_real_server():
     pytest.importorskip("rcsssmj")
     pytest.importorskip("mujoco")
     from teamenv.league.controller import WalkerController
+    from teamenv.league.observation import is_fallen
     from teamenv.league.server import LeagueServer
     from teamenv.league.team_client import TeamClient
-    from teamenv.league.walk_trial import is_down
 
     target = np.array([0.0, 0.0])
     enc = RequestEncoder(WalkerController(), "agent Alpha_1")
@@ -118,7 +118,7 @@ def test_one_agent_walks_towards_a_point_on_the_real_server():
                 server.monitor.kick_off("Left")
             x, y, yaw = torso_pose(p)
             dist.append(float(np.hypot(*(target - (x, y)))))
-            down.append(is_down(p))
+            down.append(is_fallen(p))
             to = math.atan2(target[1] - y, target[0] - x) - yaw
             team.act({1: enc.encode(Request(walk=(0.4, 0.0, 0.5 * math.remainder(to, 2 * math.pi))), p)})
     assert dist[2] == pytest.approx(5.0, abs=0.2)        # beamed
