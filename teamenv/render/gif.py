@@ -2,11 +2,22 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
-from teamenv.errors import MissingExtraError
+from teamenv.errors import ConfigError, MissingExtraError, value_repr
 from teamenv.field import field_preset
 from teamenv.replay import Replay, load_replay
+
+
+def gif_frame_ms(fps: float) -> int:
+    """The delay of one GIF frame at ``fps`` frames per second, in milliseconds (what
+    imageio's pillow writer takes as ``duration``; GIF itself stores whole centiseconds, so
+    e.g. 30 fps is written as 30 ms and plays at 33 fps)."""
+    if isinstance(fps, bool) or not isinstance(fps, (int, float)) or not math.isfinite(fps) \
+            or fps <= 0:
+        raise ConfigError(f"render: fps must be a number > 0, got {value_repr(fps)}")
+    return max(1, round(1000.0 / fps))
 
 
 def render_replay_gif(replay: Replay | str | Path, out_path: str | Path, fps: int = 10,
@@ -14,6 +25,9 @@ def render_replay_gif(replay: Replay | str | Path, out_path: str | Path, fps: in
                       width_px: int = 480) -> Path:
     """Write every ``every``-th cycle of ``replay`` between ``start`` and ``stop`` to
     ``out_path`` at ``fps`` frames per second; returns the path."""
+    frame_ms = gif_frame_ms(fps)
+    if isinstance(every, bool) or not isinstance(every, int) or every < 1:
+        raise ConfigError(f"render: every must be an integer >= 1, got {value_repr(every)}")
     from teamenv.render.pygame_renderer import PygameRenderer
 
     try:
@@ -32,7 +46,9 @@ def render_replay_gif(replay: Replay | str | Path, out_path: str | Path, fps: in
     out_path = Path(out_path)
     out_path.parent.mkdir(parents=True, exist_ok=True)
     if out_path.suffix.lower() == ".gif":
-        imageio.mimsave(out_path, frames, duration=1.0 / fps, loop=0)
+        # imageio's pillow writer takes the frame delay in milliseconds (seconds would round
+        # to a 0 ms delay, which viewers play as fast as they can)
+        imageio.mimsave(out_path, frames, duration=frame_ms, loop=0)
     else:
         imageio.mimsave(out_path, frames, fps=fps)
     renderer.close()
