@@ -27,10 +27,15 @@ frame, but its y axis points to the *right* of the attacking direction (rcssserv
 axes): the importer negates y by default (``flip_y=True``) so agent2d's "left" roles (pair -1,
 negative y) stay on the left in our right-handed frame. Coordinates are then scaled from
 105 x 68 m to the target pitch (x by the length ratio, y by the width ratio). Other methods
-(agent2d's older ``CDT``, ``KNN``, ...) are refused with an error naming the method. Roles
-without a type (v1, v2) get one from the
-uniform number (1 is the goalie) and the name (``*Back``/``Sweeper`` DF, ``*Forward``/``*Wing``/
-``Striker`` FW, otherwise MF).
+(agent2d's older ``CDT``, ``KNN``, ...) are refused with an error naming the method.
+
+Role types are librcsc's ``RoleType`` as its writers spell it: ``G``, ``DF``, ``MF``, ``FW`` and
+``Unknown`` (HELIOS's ``Static`` files, e.g. ``before-kick-off.conf``, give every role
+``Unknown``), in every form. Roles without a type (v1, v2, a CSV file without a ``RoleType``
+row) or of type ``Unknown`` get one from the uniform number (1 is the goalie) and the name
+(``*Back``/``Sweeper`` DF, ``*Forward``/``*Wing``/``Striker`` FW, otherwise MF). librcsc's own
+CSV and v3 readers also take any other word as ``Unknown``; this importer refuses it with an
+error naming the word, as a misspelt type is more likely a mistake than a wish.
 """
 
 from __future__ import annotations
@@ -44,6 +49,7 @@ from typing import Any
 import numpy as np
 
 from strategy.positioning.formation.model import Formation, FormationError, Role
+from teamenv.errors import value_repr
 from teamenv.field import FieldSpec
 
 AGENT2D_PITCH_M: tuple[float, float] = (105.0, 68.0)
@@ -53,6 +59,10 @@ AGENT2D_METHOD = "DelaunayTriangulation"
 AGENT2D_STATIC_METHOD = "Static"
 AGENT2D_METHODS: tuple[str, ...] = (AGENT2D_METHOD, AGENT2D_STATIC_METHOD)
 """The agent2d formation methods ``import_agent2d`` reads."""
+AGENT2D_UNKNOWN_TYPE = "Unknown"
+AGENT2D_ROLE_TYPES: tuple[str, ...] = ("G", "DF", "MF", "FW", AGENT2D_UNKNOWN_TYPE)
+"""The role types read, as librcsc writes its ``RoleType`` (Goalie, Defender, MidFielder,
+Forward, Unknown); an ``Unknown`` role gets its type from the uniform number and name."""
 _N = 11
 # A static formation's positions do not depend on the ball; its one sample puts the ball here.
 _STATIC_BALL = [0.0, 0.0]
@@ -186,9 +196,13 @@ def _infer_type(index: int, name: str) -> str:
     return "MF"
 
 
-def _check_type(t: str, where: str, src: str) -> str:
+def _check_type(t: Any, where: str, src: str) -> str | None:
+    """A role type as written in the file: G, DF, MF, FW, or Unknown (None: inferred later)."""
+    if t == AGENT2D_UNKNOWN_TYPE:
+        return None
     if t not in ("G", "DF", "MF", "FW"):
-        raise FormationError(f"{src}: {where}: role type {t!r} is not one of G, DF, MF, FW")
+        raise FormationError(f"{src}: {where}: role type {value_repr(t)} is not one of "
+                             f"{', '.join(AGENT2D_ROLE_TYPES)}")
     return t
 
 
