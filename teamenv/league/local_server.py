@@ -102,6 +102,55 @@ class LocalServer:
         self._in_own_rng(self.sim.generate_perceptions)
         return self._perceive(key)
 
+    def set_robot_pose(self, team: str, unum: int, position: Iterable[float],
+                       quat: Iterable[float] = (1.0, 0.0, 0.0, 0.0),
+                       joints: Mapping[str, float] | None = None,
+                       velocity: Iterable[float] = (0.0, 0.0, 0.0),
+                       angular_velocity: Iterable[float] = (0.0, 0.0, 0.0)) -> None:
+        """Put a joined robot's torso at ``position`` (world, m) with orientation ``quat`` (w, x,
+        y, z; normalised), its joints at ``joints`` (motor name -> rad; the others 0) and at
+        rest, the torso moving with ``velocity`` (m/s, world) and ``angular_velocity`` (rad/s,
+        torso frame, as MuJoCo's free joint). The next ``cycle``'s perception shows it. For
+        tests and tuning (e.g. a robot that falls): the real server's monitor can only place
+        a torso with every joint at 0."""
+        import mujoco
+
+        from .t1 import T1_MOTORS
+
+        key = (team, unum)
+        agent = self._agents.get(key)
+        if agent is None:
+            raise LeagueError(f"local server: set_robot_pose: {team} {unum} has not joined")
+
+        def vec(name: str, value: Iterable[float], n: int) -> np.ndarray:
+            try:
+                v = np.asarray(tuple(value), dtype=float)
+            except (TypeError, ValueError):
+                raise LeagueError(f"local server: set_robot_pose {name} {value!r} is not "
+                                  f"{n} numbers") from None
+            if v.shape != (n,) or not np.all(np.isfinite(v)):
+                raise LeagueError(f"local server: set_robot_pose {name} {value!r} is not "
+                                  f"{n} finite numbers")
+            return v
+
+        q = vec("quat", quat, 4)
+        if np.linalg.norm(q) < 1e-9:
+            raise LeagueError(f"local server: set_robot_pose quat {tuple(quat)!r} has length 0")
+        angles = {}
+        for motor, angle in (joints or {}).items():
+            if motor not in T1_MOTORS:
+                raise LeagueError(f"local server: set_robot_pose joint {motor!r} is not a T1 "
+                                  f"motor; motors: {list(T1_MOTORS)}")
+            angles[T1_MOTORS[motor]] = float(vec(f"joint {motor}", (angle,), 1)[0])
+        agent.place_at(tuple(vec("position", position, 3)), tuple(q / np.linalg.norm(q)),
+                       vel=tuple(vec("velocity", velocity, 3)),
+                       ang_vel=tuple(vec("angular_velocity", angular_velocity, 3)))
+        agent.init_joints()
+        data = self.sim.mj_data
+        for joint, angle in angles.items():
+            data.joint(agent.agent_id.prefix + joint).qpos[:] = angle
+        mujoco.mj_forward(self.sim.mj_model, data)
+
     def _in_own_rng(self, fn, *args):
         outer = np.random.get_state()
         np.random.set_state(self._np_state)
@@ -143,6 +192,19 @@ class LocalServer:
         self.latest = {key: self._perceive(key) for key in self._agents}
         self._answers = {}
         return dict(self.latest)
+
+    def place_ball(self, x: float, y: float) -> None:
+        """Put the ball at rest on the ground at world (x, y) m (a trial's set-up): the next
+        ``cycle`` simulates from there (the perceptions of the last cycle still show the old
+        place)."""
+        x, y = float(x), float(y)
+        if not (np.isfinite(x) and np.isfinite(y)):
+            raise LeagueError(f"local server: place_ball at ({x!r}, {y!r}) is not a finite point")
+        self.sim.ball.drop_at(x, y)
+
+    def ball_position(self) -> tuple[float, float, float]:
+        """The ball's world position (m) after the last cycle (ground truth, for trials)."""
+        return tuple(float(v) for v in self.sim.ball.xpos)
 
     # -- the TeamClient interface, for play_league_match ---------------------------------
     def team(self, name: str, unums: Iterable[int]) -> LocalTeam:

@@ -1,0 +1,216 @@
+"""Getting up on the league server: a keyframe motion for the T1 lying on its front or back.
+
+``GetUpMotion`` is started on a fallen robot (``start(perception)``), tells front from back by
+where the torso's forward axis points, and then plays that side's keyframes, one motor
+message per cycle (``step(perception)``), from the joint angles it measured at the start:
+each keyframe is reached in its own time by smooth (cosine) interpolation from the one before,
+every motor a PD target with the walker's gains. The last keyframe is ``END_POSE``, the stance
+a walk starts from; the motion is ``done`` once it has held that pose for ``SETTLE_S`` and
+``succeeded`` if the robot is then up (the observation's fall test says not down and the torso
+is near the stance's height). A robot that falls again during the motion is not retried here:
+the caller sees ``done`` without ``succeeded`` and starts a new motion.
+
+A keyframe is (seconds to reach it, joint group -> angle in rad). The groups are symmetric:
+``shoulder_pitch``, ``elbow_pitch``, ``hip_pitch``, ``knee``, ``ankle_pitch`` drive the left
+and right joint alike (``waist``, ``head_yaw``, ``head_pitch`` are single joints);
+``shoulder_roll``, ``elbow_yaw``, ``hip_roll``, ``hip_yaw``, ``ankle_roll`` are given for the
+left side and mirrored on the right. A group a keyframe leaves out keeps the previous
+keyframe's angle.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from . import effectors
+from .controller import CYCLE_S
+from .errors import LeagueError
+from .perception import Perception
+from .t1 import T1_MOTORS, joint_sensor
+
+Keyframe = tuple[float, Mapping[str, float]]
+
+#: group -> ((left motor, right motor), right = sign * left)
+GROUPS: dict[str, tuple[tuple[str, ...], float]] = {
+    "head_yaw": (("he1",), 1.0),
+    "head_pitch": (("he2",), 1.0),
+    "shoulder_pitch": (("lae1", "rae1"), 1.0),
+    "shoulder_roll": (("lae2", "rae2"), -1.0),
+    "elbow_pitch": (("lae3", "rae3"), 1.0),
+    "elbow_yaw": (("lae4", "rae4"), -1.0),
+    "waist": (("te1",), 1.0),
+    "hip_pitch": (("lle1", "rle1"), 1.0),
+    "hip_roll": (("lle2", "rle2"), -1.0),
+    "hip_yaw": (("lle3", "rle3"), -1.0),
+    "knee": (("lle4", "rle4"), 1.0),
+    "ankle_pitch": (("lle5", "rle5"), 1.0),
+    "ankle_roll": (("lle6", "rle6"), -1.0),
+}
+
+#: the stance the motion ends in: the walker's (``locomotion.humanoid.t1.STANCE``: knees
+#: bent 0.4 rad, arms down), from which ``WalkerController`` starts walking
+END_POSE: dict[str, float] = {
+    "head_yaw": 0.0, "head_pitch": 0.0, "shoulder_pitch": 0.0, "shoulder_roll": -1.3, "elbow_pitch": 0.0,
+    "elbow_yaw": 0.0, "waist": 0.0, "hip_pitch": -0.2, "hip_roll": 0.0, "hip_yaw": 0.0,
+    "knee": 0.4, "ankle_pitch": -0.2, "ankle_roll": 0.0,
+}
+
+#: keyframes from lying on the front (face down)
+FRONT: tuple[Keyframe, ...] = (
+    (0.3, {"shoulder_pitch": -1.5, "shoulder_roll": -1.4, "elbow_pitch": 0.0,
+           "hip_pitch": 0.0, "knee": 0.0, "ankle_pitch": 0.0}),
+    (0.4, {"shoulder_pitch": -1.6, "hip_pitch": -1.6, "knee": 2.2, "ankle_pitch": -0.8}),
+    (0.6, {"shoulder_pitch": -0.5, "hip_pitch": -1.2, "knee": 2.0, "ankle_pitch": -0.8}),
+    (0.8, END_POSE),
+)
+
+#: keyframes from lying on the back (face up)
+BACK: tuple[Keyframe, ...] = (
+    (0.3, {"shoulder_pitch": 0.8, "shoulder_roll": -1.4, "hip_pitch": -1.6, "knee": 2.2,
+           "ankle_pitch": -0.8}),
+    (0.5, {"shoulder_pitch": 1.2, "hip_pitch": -1.6, "knee": 2.2, "ankle_pitch": -0.8}),
+    (0.8, END_POSE),
+)
+
+#: joint PD gains (kp N m/rad, kd N m s/rad) by the motor's joint name fragment: the T1's
+#: (``locomotion.humanoid.t1.PD_GAINS``) x this scale, the walker's (``LEAGUE_WALK``)
+GAIN_SCALE = 2.9369
+#: seconds the end pose is held (the robot settles) before the motion is done
+SETTLE_S = 0.4
+#: torso height (m) the robot must reach to count as up (it stands at ~0.66 m)
+UP_HEIGHT_M = 0.55
+
+
+def lying_on_front(quat: Sequence[float]) -> bool:
+    """True when the torso's forward axis points down (face down), from its world orientation
+    (w, x, y, z); a robot on its side counts by the sign of the same axis."""
+    w, x, y, z = quat
+    return 2.0 * (x * z - w * y) < 0.0
+
+
+def _motor_gains() -> dict[str, tuple[float, float]]:
+    from locomotion.humanoid.t1 import PD_GAINS
+
+    gains = {}
+    for motor, joint in T1_MOTORS.items():
+        for frag, kp, kd in PD_GAINS:
+            if frag in joint:
+                gains[motor] = (kp * GAIN_SCALE, kd * GAIN_SCALE)
+                break
+    return gains
+
+
+def _targets(frame: Mapping[str, float], previous: Mapping[str, float]) -> dict[str, float]:
+    """A keyframe's motor targets: its groups on both sides, the other motors as before."""
+    out = dict(previous)
+    for group, angle in frame.items():
+        if group not in GROUPS:
+            raise LeagueError(f"get-up keyframe: unknown joint group {group!r}; "
+                              f"groups: {list(GROUPS)}")
+        motors, sign = GROUPS[group]
+        out[motors[0]] = float(angle)
+        if len(motors) == 2:
+            out[motors[1]] = sign * float(angle)
+    return out
+
+
+class GetUpMotion:
+    """One get-up, front or back chosen at ``start``; see the module docstring.
+
+    Args:
+        front, back: the keyframes of each side (default ``FRONT`` / ``BACK``); the last one
+            should be the end pose a walk starts from.
+        settle_s: seconds the last keyframe is held before the motion is done.
+    """
+
+    def __init__(self, front: Sequence[Keyframe] = FRONT, back: Sequence[Keyframe] = BACK,
+                 settle_s: float = SETTLE_S) -> None:
+        for name, frames in (("front", front), ("back", back)):
+            if not frames:
+                raise LeagueError(f"GetUpMotion: no {name} keyframes")
+            for k, (dt, frame) in enumerate(frames):
+                if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
+                    raise LeagueError(f"GetUpMotion: {name} keyframe {k}: duration {dt!r} "
+                                      "is not a positive number of seconds")
+                _targets(frame, {})
+        self.front, self.back = tuple(front), tuple(back)
+        self.settle_s = float(settle_s)
+        self._gains = _motor_gains()
+        self._plan: list[tuple[float, dict[str, float]]] = []
+        self._t = 0.0
+        self.side: str | None = None
+        self.done = False
+        self.succeeded = False
+        self.started = False
+
+    @property
+    def duration(self) -> float:
+        """Seconds from start to done of the side chosen (NaN before ``start``)."""
+        if not self._plan:
+            return math.nan
+        return sum(dt for dt, _ in self._plan) + self.settle_s
+
+    def start(self, perception: Perception) -> None:
+        """Begin from ``perception``: choose the side, plan from the measured joints."""
+        quat = perception.orientations.get("torso_quat")
+        if quat is None:
+            raise LeagueError("GetUpMotion.start: the perception has no torso_quat")
+        self.side = "front" if lying_on_front(quat) else "back"
+        current = {}
+        for motor in T1_MOTORS:
+            js = perception.joints.get(joint_sensor(motor))
+            if js is None:
+                raise LeagueError(f"GetUpMotion.start: the perception has no joint "
+                                  f"{joint_sensor(motor)!r} (T1 expected)")
+            current[motor] = js.angle
+        self._plan = [(0.0, current)]
+        previous = current
+        for dt, frame in (self.front if self.side == "front" else self.back):
+            previous = _targets(frame, previous)
+            self._plan.append((float(dt), previous))
+        self._t = 0.0
+        self.done = self.succeeded = False
+        self.started = True
+
+    def _pose_at(self, t: float) -> dict[str, float]:
+        for (_, a), (dt, b) in zip(self._plan, self._plan[1:], strict=False):
+            if t < dt:
+                s = 0.5 - 0.5 * math.cos(math.pi * t / dt)
+                return {m: a[m] + s * (b[m] - a[m]) for m in a}
+            t -= dt
+        return self._plan[-1][1]
+
+    def step(self, perception: Perception) -> str:
+        """This cycle's motor message (the end pose, held, once done)."""
+        if not self.started:
+            raise LeagueError("GetUpMotion.step before start")
+        self._t += CYCLE_S
+        pose = self._pose_at(self._t)
+        if not self.done and self._t >= self.duration - 1e-9:
+            self.done = True
+            self.succeeded = is_up(perception)
+        return effectors.message(*(
+            effectors.motor(m, pose[m], 0.0, *self._gains[m]) for m in T1_MOTORS))
+
+
+def is_up(perception: Perception) -> bool:
+    """Standing: not down by the observation's fall test, torso above ``UP_HEIGHT_M``."""
+    from .observation import torso_down  # here: observation imports the adapter, which uses us
+
+    q = perception.orientations.get("torso_quat")
+    pos = perception.positions.get("torso_pos")
+    if q is None or pos is None:
+        return False
+    return not torso_down(q, pos[2]) and pos[2] >= UP_HEIGHT_M
+
+
+def keyframes_vector(frames: Sequence[Keyframe]) -> np.ndarray:
+    """The keyframes as one flat vector (durations and angles in group order), for tuning."""
+    out = []
+    for dt, frame in frames:
+        out.append(dt)
+        out.extend(frame[g] for g in GROUPS if g in frame)
+    return np.asarray(out, dtype=float)
