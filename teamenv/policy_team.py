@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -52,6 +53,7 @@ from teamenv.field import FieldSpec
 from teamenv.sim.perception import N_PLAY_MODES, flat_observation_size
 from teamenv.sim.vision import VisionLayout, vision_layout
 from teamenv.slots import SELF_COLUMNS
+from teamenv.team_config import team_config
 from teamenv.teams import TeamContext
 
 MLP_FORMAT = "teamenv-mlp-v1"
@@ -337,15 +339,25 @@ def expected_observation_size(context: TeamContext) -> int:
     return vision_layout(context.field, context.team_size, heard, context.perception).size
 
 
+@dataclass(frozen=True)
+class PolicyTeamConfig:
+    """The policy team's options, exactly one of them: ``path`` (an ``MLP_FORMAT`` file) or
+    ``policy`` (a callable ``obs_batch -> actions``, or an ``MLPPolicy``)."""
+
+    path: str | Path | None = None
+    policy: PolicyFn | None = None
+
+
 class PolicyTeam:
     """Drives every agent of a side with one policy (shared weights, one batched call a cycle).
 
     Config: ``path`` (an ``MLP_FORMAT`` file) or ``policy`` (a callable ``obs_batch ->
-    actions``, or an ``MLPPolicy``), exactly one of them.
+    actions``, or an ``MLPPolicy``), exactly one of them (``PolicyTeamConfig``).
     """
 
-    def __init__(self, context: TeamContext, path: str | Path | None = None,
-                 policy: PolicyFn | None = None) -> None:
+    def __init__(self, context: TeamContext, **config: Any) -> None:
+        options = team_config("policy", PolicyTeamConfig, config, error=PolicyFileError)
+        path, policy = options.path, options.policy
         if (path is None) == (policy is None):
             raise PolicyFileError(f"policy team ({context.side}): give exactly one of 'path' "
                                   f"(a {MLP_FORMAT} .npz file) or 'policy' (a callable)")

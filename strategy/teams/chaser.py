@@ -6,6 +6,7 @@ A template for a first team: decisions use only each agent's own observation.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -13,21 +14,36 @@ import numpy as np
 from strategy.perception.worldmodel import WorldModel
 from strategy.teams.common import Beliefs, kick_toward, walk_to
 from teamenv import PlayMode
+from teamenv.team_config import in_range, team_config
 from teamenv.teams import TeamContext
 
 OWN_KICKABLE = {"PlayOn", "KickOff_Left", "KickIn_Left", "CornerKick_Left", "GoalKick_Left"}
 
 
+@dataclass(frozen=True)
+class ChaserConfig:
+    """The chaser's options.
+
+    kick_reach: kick when the ball is this close (m); None: 0.9 x the body's kick reach.
+    all_chase: every agent chases the ball (False: only the one that believes it is closest).
+    """
+
+    kick_reach: float | None = field(default=None, metadata=in_range(0.0, low_open=True))
+    all_chase: bool = False
+
+
 class ChaserTeam:
     """Every agent that believes it is the closest teammate to the ball chases it and kicks
-    towards the opponents' goal; the others hold a spot between the ball and their goal."""
+    towards the opponents' goal; the others hold a spot between the ball and their goal.
+    Config keys: the fields of ``ChaserConfig``."""
 
-    def __init__(self, context: TeamContext, kick_reach: float | None = None,
-                 all_chase: bool = False):
+    def __init__(self, context: TeamContext, **config: Any):
+        self.config = team_config("chaser", ChaserConfig, config)
         self.context = context
         self.bounds = (context.walk_low, context.walk_high)
+        kick_reach = self.config.kick_reach
         self.kick_reach = context.kick_reach * 0.9 if kick_reach is None else float(kick_reach)
-        self.all_chase = bool(all_chase)
+        self.all_chase = self.config.all_chase
         self.goal = np.array([context.field.half_length, 0.0])
         self.beliefs = Beliefs(context)
 

@@ -3,21 +3,32 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from strategy.teams.common import Beliefs, walk_to
+from teamenv.team_config import in_range, team_config
 from teamenv.teams import TeamContext
+
+
+@dataclass(frozen=True)
+class StaticConfig:
+    """The static team's option. depth: how far towards the halfway line the deepest field
+    players stand, as a fraction of the half's length."""
+
+    depth: float = field(default=0.5, metadata=in_range(0.0, 1.0, low_open=True))
 
 
 class StaticTeam:
     """Holds a fixed grid of positions in the own half (a goalie on the goal line); never
-    kicks. The weakest opponent, useful as a baseline and for tests."""
+    kicks. The weakest opponent, useful as a baseline and for tests. Config keys: the fields
+    of ``StaticConfig``."""
 
-    def __init__(self, context: TeamContext, depth: float = 0.5):
-        if not 0.0 < depth <= 1.0:
-            raise ValueError(f"static team: depth must be in (0, 1], got {depth!r}")
+    def __init__(self, context: TeamContext, **config: Any):
+        self.config = team_config("static", StaticConfig, config)
+        depth = self.config.depth
         self.context = context
         self.bounds = (context.walk_low, context.walk_high)
         f, n = context.field, context.team_size

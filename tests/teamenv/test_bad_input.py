@@ -125,7 +125,7 @@ def test_unknown_team():
         teamenv.parallel_env(left="nope")
     with pytest.raises(TeamLoadError, match="no_such_module"):
         teamenv.parallel_env(left="no_such_module:Team")
-    with pytest.raises(TeamLoadError, match="bad config"):
+    with pytest.raises(ConfigError, match="static team config: unknown key 'nonsense'"):
         teamenv.parallel_env(left="static", left_config={"nonsense": 1})
 
 
