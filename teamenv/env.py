@@ -13,6 +13,7 @@ from pettingzoo import ParallelEnv
 import locomotion
 from teamenv import spaces as tspaces
 from teamenv.actions import ActionParser
+from teamenv.capabilities import DEFAULT_LOCOMOTION_PROFILE
 from teamenv.config import (
     PerceptionConfig,
     PhysicsConfig,
@@ -179,7 +180,7 @@ class SoccerParallelEnv(ParallelEnv):
         observation_format: str = "dict",
         action_format: str = "dict",
         channel: str = "simspark",
-        locomotion_profile: str = "t1_mj",
+        locomotion_profile: str = DEFAULT_LOCOMOTION_PROFILE,
         strict: bool = True,
         reward_fn: RewardFn | None = None,
         reward: str | Mapping[str, float] | None = None,

@@ -11,6 +11,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any, Iterator, Mapping
 
+from teamenv.capabilities import DEFAULT_LOCOMOTION_PROFILE
 from teamenv.config import RulesConfig
 from teamenv.env import SIDES, SoccerParallelEnv
 from teamenv.errors import ConfigError, TeamFault
@@ -34,7 +35,7 @@ class MatchOptions:
     halves: int = 2
     observation_mode: str = "state"
     channel: str = "simspark"
-    locomotion_profile: str = "t1_mj"
+    locomotion_profile: str = DEFAULT_LOCOMOTION_PROFILE
     vision: str | None = None
 
     @classmethod

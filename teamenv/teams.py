@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from importlib.metadata import entry_points
 from typing import Any, Mapping, Protocol, runtime_checkable
 
+from teamenv.capabilities import BodyCapabilities, body_capabilities, default_body
 from teamenv.config import PerceptionConfig, PhysicsConfig
 from teamenv.errors import TeamLoadError
 from teamenv.field import FieldSpec
@@ -33,8 +34,12 @@ class TeamContext:
         channel: name of the say channel profile ("simspark" or "mj").
         observation_mode: "state" (true state) or "vision".
         seed: the seed of the first episode (each ``reset(seed)`` gives the episode's seed).
-        walk_low, walk_high: the walk command range (vx, vy m/s, vturn rad/s) actions must obey.
-        kick_reach: how close (m, body centre to ball centre) a player must be to kick.
+        body: what the team's bodies can do (``teamenv.capabilities.BodyCapabilities``: walk
+            command range and real speeds, kick reach, kick distance and spread, aim error,
+            kick and get-up times), derived from the locomotion profile the env plays; the
+            default is the env's default profile. ``walk_low``, ``walk_high`` and
+            ``kick_reach`` read it.
+        ball_radius: the ball's radius (m).
         ball_linear_drag, ball_rolling_decel: the rolling ball slows by
             ``dv/dt = -ball_linear_drag * v - ball_rolling_decel`` (1/s, m/s²), so a team can
             predict where it stops.
@@ -53,9 +58,8 @@ class TeamContext:
     channel: str
     observation_mode: str
     seed: int
-    walk_low: tuple[float, float, float] = (-1.0, -0.4, -1.5)
-    walk_high: tuple[float, float, float] = (1.5, 0.4, 1.5)
-    kick_reach: float = 0.35
+    body: BodyCapabilities = field(default_factory=default_body)
+    ball_radius: float = 0.042
     ball_linear_drag: float = 0.4
     ball_rolling_decel: float = 0.3
     perception: PerceptionConfig | None = None
@@ -63,20 +67,34 @@ class TeamContext:
     landmark_kind: str | None = None
     extra: Mapping[str, Any] = field(default_factory=dict)
 
+    @property
+    def walk_low(self) -> tuple[float, float, float]:
+        """Low bound of the walk command (vx, vy m/s, vturn rad/s) actions must obey."""
+        return self.body.walk_low
+
+    @property
+    def walk_high(self) -> tuple[float, float, float]:
+        """High bound of the walk command (vx, vy m/s, vturn rad/s)."""
+        return self.body.walk_high
+
+    @property
+    def kick_reach(self) -> float:
+        """How close (m, body centre to ball centre) a player must be to kick."""
+        return self.body.kick_reach
+
 
 def team_context(side: str, team_size: int, field: FieldSpec, profile: Any,
                  physics: PhysicsConfig, channel: str, observation_mode: str,
                  perception: PerceptionConfig | None = None,
                  vision: str | None = None) -> TeamContext:
-    """The context the env gives team ``side``: agents ``{side}_1`` ..., the walk range and
-    kick reach of locomotion ``profile``, the cycle and ball drag of ``physics``, and in
-    ``vision`` mode the camera ``perception`` (``vision`` its profile name)."""
+    """The context the env gives team ``side``: agents ``{side}_1`` ..., the body's
+    capabilities of locomotion ``profile`` (``teamenv.capabilities.body_capabilities``), the
+    cycle, ball size and drag of ``physics``, and in ``vision`` mode the camera ``perception``
+    (``vision`` its profile name)."""
     return TeamContext(side=side, agents=tuple(f"{side}_{k + 1}" for k in range(team_size)),
                        team_size=team_size, field=field, cycle_s=physics.cycle_s,
                        channel=channel, observation_mode=observation_mode, seed=0,
-                       walk_low=tuple(float(v) for v in profile.command_low),
-                       walk_high=tuple(float(v) for v in profile.command_high),
-                       kick_reach=float(profile.kick_reach),
+                       body=body_capabilities(profile), ball_radius=physics.ball_radius,
                        ball_linear_drag=physics.ball_linear_drag,
                        ball_rolling_decel=physics.ball_rolling_decel,
                        perception=perception, vision=vision,

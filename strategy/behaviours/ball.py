@@ -17,8 +17,9 @@ from strategy.perception.worldmodel import WorldModel
 BEHIND_M = 0.45
 """Where the approach lines up: this far behind the ball on the line from the aim point."""
 
-CONTACT_M = 0.24
-"""Body centre to ball centre when the foot touches it (body radius + ball radius)."""
+STEP_IN_M = 0.04
+"""The approach walks this far into the ball's contact distance (``Skills.contact_m``), so
+the foot meets it."""
 
 
 def _unit(v: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -51,12 +52,12 @@ def approach_ball(wm: WorldModel, aim: ArrayLike, skills: Skills,
     if dist > 0.3 and abs(wrap_angle(aim_angle - math.atan2(to_ball[1], to_ball[0]))) < \
             skills.kick_max_angle - 0.2:
         # The aim can be kicked from the direction we come from: straight to the ball.
-        target = ball - to_ball / dist * (CONTACT_M - 0.04)
+        target = ball - to_ball / dist * (skills.contact_m - STEP_IN_M)
         return go_to(wm, target, skills, face=ball, avoid=dist > 1.5,
                      behaviour=behaviour), False
     if behind > 0.2 and lateral < 0.25 and dist < 0.9:
         # On the line behind the ball: step in, facing the aim.
-        target = ball - u * (CONTACT_M - 0.04)
+        target = ball - u * (skills.contact_m - STEP_IN_M)
         return go_to(wm, target, skills, face=ball + u, speed=0.6, avoid=False,
                      behaviour=behaviour), False
     spot = ball - u * BEHIND_M

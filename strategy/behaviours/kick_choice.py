@@ -1,20 +1,23 @@
 """Where to kick: every kick is a race to where the ball stops.
 
-A kick sends the ball ~9 m (seed 000 Table 1: mean 8.92 m, s.d. 3.82 m at full power,
-~11 degrees of aim error), and players walk ~1 m/s, so whoever is first at the landing point
-has the ball next. ``best_kick`` scores candidate landing points (a fan of directions at a few
-powers, plus shots at the goal mouth) by
+A kick sends the ball as far as the body kicks (``BodyCapabilities``: the profile's mean and
+s.d. of a full-power kick, e.g. 8.92 m +- 3.82 m for ``t1_mj``, 1.17 m +- 0.91 m for
+``t1_league``, and its aim error), and players walk at the body's real speed, so whoever is
+first at the landing point has the ball next. ``best_kick`` scores candidate landing points
+(a fan of directions at a few powers, plus shots at the goal mouth) by
 
     value = possession_weight * tanh(margin / 2) + progress_weight * forward gain
             + goal_weight * P(goal)                               (a shot)
             + goal_weight * follow_up * P(we win) * P(goal from there)   (any other kick)
 
 where ``margin`` (s) is how much sooner our nearest teammate than their nearest player can
-reach the landing point (the kicker stands for the kick's duration first), and ``P(goal)`` is
-the chance the kick's distance and aim spread put the ball inside the goal mouth; a pass is
-also worth part (``follow_up``) of the shot its receiver can take next. A lane an opponent
-stands in gives the ball to them. Kicks at the goal mouth are raced for, and credited with
-ground, at the goal line (see ``best_kick``): a deliberate bias towards kicking at the goal.
+reach the landing point (the kicker stands for the kick's duration first; a fallen player
+needs its get-up time first), and ``P(goal)`` is the chance the kick's distance and aim
+spread put the ball inside the goal mouth; a pass is also worth part (``follow_up``) of the
+shot its receiver can take next. A lane an opponent stands in gives the ball to them. Kicks
+at the goal mouth are raced for, and credited with ground, at the goal line (see
+``best_kick``): a deliberate bias towards kicking at the goal. Every body fact comes from the
+``body`` argument (the team's ``TeamContext.body``); this module holds none.
 """
 
 from __future__ import annotations
@@ -27,18 +30,7 @@ from numpy.typing import NDArray
 from scipy.special import ndtr
 
 from strategy.perception.worldmodel import WorldModel
-
-AIM_SIGMA_RAD = 0.189
-"""Aim error s.d.: seed 000 Table 1 puts 64.5 % of kicks within 10 degrees."""
-
-KICK_MEAN_M, KICK_SD_M = 8.92, 3.82
-"""Full-power kick distance, seed 000 Table 1."""
-
-FALLEN_PENALTY_S = 3.0
-"""A fallen player needs about this long (fall + get-up) before it can run."""
-
-KICKER_BUSY_S = 1.5
-"""The kicker stands still this long after the kick (the kick's duration)."""
+from teamenv.capabilities import BodyCapabilities
 
 LANE_M = 0.45
 """An opponent this close to the ball's path (before it stops) takes the ball."""
@@ -65,13 +57,14 @@ class KickChoice:
 
 def _reach_times(points: NDArray[np.float64], players: NDArray[np.float64],
                  usable: NDArray[np.bool_], fallen: NDArray[np.bool_],
-                 speed: float) -> NDArray[np.float64]:
-    """(P,) the earliest any usable player reaches each point, seconds."""
+                 speed: float, fallen_s: float) -> NDArray[np.float64]:
+    """(P,) the earliest any usable player reaches each point, seconds (a fallen one starts
+    ``fallen_s`` late)."""
     if not usable.any():
         return np.full(len(points), np.inf)
     p = players[usable]
     t = np.hypot(points[:, None, 0] - p[None, :, 0], points[:, None, 1] - p[None, :, 1]) / speed
-    t += np.where(fallen[usable], FALLEN_PENALTY_S, 0.0)[None, :]
+    t += np.where(fallen[usable], fallen_s, 0.0)[None, :]
     return t.min(axis=1)
 
 
@@ -92,16 +85,19 @@ def _lane_blocked(ball: NDArray[np.float64], ends: NDArray[np.float64],
     return ((gap < LANE_M) & (s > 0.0)).any(axis=1)
 
 
-def goal_probability(wm: WorldModel, aim: NDArray[np.float64], power: float) -> float:
-    """Chance a kick from the ball at ``aim`` with ``power`` ends in the goal: the aim error
-    must keep it inside the posts and the distance must carry it over the line."""
+def goal_probability(wm: WorldModel, aim: NDArray[np.float64], power: float,
+                     body: BodyCapabilities) -> float:
+    """Chance a kick by ``body`` from the ball at ``aim`` with ``power`` ends in the goal:
+    the aim error must keep it inside the posts and the distance must carry it over the
+    line."""
     return float(goal_chances(wm.field.half_length, wm.field.half_goal_width,
                               wm.ball[None, :], np.asarray(aim, dtype=np.float64)[None, :],
-                              np.array([power]))[0])
+                              np.array([power]), body)[0])
 
 
 def goal_chances(half_length: float, half_goal_width: float, balls: NDArray[np.float64],
-                 aims: NDArray[np.float64], powers: NDArray[np.float64]) -> NDArray[np.float64]:
+                 aims: NDArray[np.float64], powers: NDArray[np.float64],
+                 body: BodyCapabilities) -> NDArray[np.float64]:
     """(P,) ``goal_probability`` for kicks from ``balls`` (P, 2) at ``aims`` (P, 2)."""
     dx = half_length - balls[:, 0]
     ahead = dx > 0
@@ -109,16 +105,18 @@ def goal_chances(half_length: float, half_goal_width: float, balls: NDArray[np.f
     to_aim = np.arctan2(aims[:, 1] - balls[:, 1], aims[:, 0] - balls[:, 0])
     low = np.arctan2(-half_goal_width + 0.15 - balls[:, 1], dx)
     high = np.arctan2(half_goal_width - 0.15 - balls[:, 1], dx)
-    p_aim = ndtr((high - to_aim) / AIM_SIGMA_RAD) - ndtr((low - to_aim) / AIM_SIGMA_RAD)
+    aim_sd = max(body.kick_aim_sd_rad, 1e-9)
+    p_aim = ndtr((high - to_aim) / aim_sd) - ndtr((low - to_aim) / aim_sd)
     needed = np.hypot(dx, balls[:, 1]) / np.maximum(powers, 1e-6)
-    p_far = ndtr((KICK_MEAN_M - needed) / KICK_SD_M)
+    p_far = ndtr((body.kick_distance_mean_m - needed) / max(body.kick_distance_sd_m, 1e-9))
     return np.where(ahead & (high > low), np.maximum(p_aim, 0.0) * p_far, 0.0)
 
 
-def best_kick(wm: WorldModel, walk_speed: float, possession_weight: float,
-              progress_weight: float, goal_weight: float, follow_up: float = 0.0,
-              exclude: tuple[int, ...] = ()) -> KickChoice:
-    """The most valuable kick from where the ball is (see the module doc)."""
+def best_kick(wm: WorldModel, body: BodyCapabilities, walk_speed: float,
+              possession_weight: float, progress_weight: float, goal_weight: float,
+              follow_up: float = 0.0, exclude: tuple[int, ...] = ()) -> KickChoice:
+    """The most valuable kick by ``body`` from where the ball is (see the module doc);
+    ``walk_speed`` (m/s): how fast players really run to the landing point."""
     f = wm.field
     ball = wm.ball
     goal = wm.opponent_goal
@@ -126,7 +124,7 @@ def best_kick(wm: WorldModel, walk_speed: float, possession_weight: float,
     angles = base + DIRECTIONS
     ends, powers = [], []
     for power in POWERS:
-        reach = power * KICK_MEAN_M
+        reach = power * body.kick_distance_mean_m
         ends.append(ball + reach * np.column_stack([np.cos(angles), np.sin(angles)]))
         powers.extend([power] * len(angles))
     ys = np.linspace(-0.6, 0.6, 3) * f.half_goal_width
@@ -150,11 +148,13 @@ def best_kick(wm: WorldModel, walk_speed: float, possession_weight: float,
     for k in exclude:
         mates_usable[k] = False
     mates_usable[wm.me] = False
-    ours = _reach_times(landing, wm.teammates, mates_usable, wm.teammates_fallen, walk_speed)
-    mine = KICKER_BUSY_S + np.hypot(*(landing - wm.position).T) / walk_speed
+    # A player seen lying needs its get-up (its fall is mostly over when it is seen down).
+    ours = _reach_times(landing, wm.teammates, mates_usable, wm.teammates_fallen, walk_speed,
+                        body.getup_s)
+    mine = body.kick_duration_s + np.hypot(*(landing - wm.position).T) / walk_speed
     ours = np.minimum(ours, mine)
     theirs = _reach_times(landing, wm.opponents, wm.opponents_present, wm.opponents_fallen,
-                          walk_speed)
+                          walk_speed, body.getup_s)
     margin = np.clip(theirs - ours, -10.0, 10.0)
     blocked = _lane_blocked(ball, landing, wm.opponents[wm.opponents_present])
     margin = np.where(blocked, -3.0, margin)
@@ -162,11 +162,11 @@ def best_kick(wm: WorldModel, walk_speed: float, possession_weight: float,
         + progress_weight * (landing[:, 0] - ball[0])
     # a shot through a crowd still has its chance (deflections): halved, not lost
     p_goal = goal_chances(f.half_length, f.half_goal_width, np.broadcast_to(ball, end.shape),
-                          end, power_arr) * np.where(blocked, 0.5, 1.0)
+                          end, power_arr, body) * np.where(blocked, 0.5, 1.0)
     # a pass is worth the shot the receiver can take from where it wins the ball
     win = 0.5 * (1.0 + np.tanh(margin / 2.0))
     follow = goal_chances(f.half_length, f.half_goal_width, landing,
-                          np.broadcast_to(goal, end.shape), np.ones(len(end)))
+                          np.broadcast_to(goal, end.shape), np.ones(len(end)), body)
     value += goal_weight * np.where(is_shot, p_goal, follow_up * win * follow)
     value = np.where(on_pitch | is_shot, value, -np.inf)
     k = int(np.argmax(value))

@@ -140,13 +140,14 @@ class FieldPlayerDecisionMaker:
         if math.hypot(*wm.ball_velocity) < MOVING_BALL_M_S:
             return d
         times, _ = self.intercepts(wm)
-        return np.where(np.isfinite(d), times * self.config.nav_max_speed, np.inf)
+        return np.where(np.isfinite(d), times * self.skills.run_speed, np.inf)
 
     def intercepts(self, wm: WorldModel) -> tuple[np.ndarray, np.ndarray]:
         """Every teammate's earliest meeting time and point with the rolling ball
-        (``WorldModel.intercepts`` at ``nav_max_speed``), computed once per belief."""
+        (``WorldModel.intercepts`` at the body's real running speed, ``Skills.run_speed``),
+        computed once per belief."""
         return shared(self.memo, "intercepts", wm,
-                      lambda: wm.intercepts(wm.teammates, self.config.nav_max_speed))
+                      lambda: wm.intercepts(wm.teammates, self.skills.run_speed))
 
     def supporter(self, wm: WorldModel) -> int | None:
         """The upright field player closest to the ball after the ball player (None if
@@ -181,7 +182,8 @@ class FieldPlayerDecisionMaker:
             meet = self.intercepts(wm)[1][wm.me]
             if wm.distance(meet) > 0.5:
                 return go_to(wm, meet, self.skills, face=wm.ball, behaviour="intercept")
-        choice = best_kick(wm, c.nav_max_speed, c.kick_possession_weight, c.kick_progress_weight,
+        choice = best_kick(wm, self.skills.body, self.skills.run_speed,
+                           c.kick_possession_weight, c.kick_progress_weight,
                            c.kick_goal_weight, c.kick_follow_up,
                            exclude=() if self.goalie is None else (self.goalie,))
         opps = wm.opponents[wm.opponents_present & ~wm.opponents_fallen]

@@ -26,7 +26,6 @@ class DecisionParams:
     goalie_line_m: float
     goalie_clear_m: float
     set_play_clearance_m: float
-    nav_max_speed: float
     kick_possession_weight: float
     kick_progress_weight: float
     kick_goal_weight: float

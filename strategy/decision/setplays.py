@@ -81,12 +81,13 @@ def take_set_play(wm: WorldModel, skills: Skills, pass_max_m: float,
         return kick_to(wm, target, skills).named("corner_kick")
     if mode.kind == "GoalKick":
         return clear_ball(wm, skills).named("goal_kick")
-    mate = choose_pass(wm, min_gain_m=0.0, max_distance_m=pass_max_m, lane_m=lane_m,
-                       free_m=1.0)
+    # no longer a pass than the body's mean kick carries
+    mate = choose_pass(wm, min_gain_m=0.0, max_distance_m=min(pass_max_m, skills.kick_distance_m),
+                       lane_m=lane_m, free_m=1.0)
     if mate is not None:
         return pass_to(wm, mate, skills).named(f"{_name(mode)}_pass")
     forward = np.array([wm.ball[0] + 4.0, wm.ball[1] * 0.5])
-    return kick_to(wm, forward, skills, power=0.45).named(f"{_name(mode)}_forward")
+    return kick_to(wm, forward, skills).named(f"{_name(mode)}_forward")
 
 
 def keep_distance(target: NDArray[np.float64], wm: WorldModel, clearance_m: float,

@@ -43,13 +43,15 @@ class FullTeam:
                               f"'vision', got {context.observation_mode!r}")
         self.context = context
         self.config = FullTeamConfig.from_overrides(self.name, {**self.defaults, **config})
-        self.low = np.asarray(context.walk_low, dtype=np.float64)
-        self.high = np.asarray(context.walk_high, dtype=np.float64)
-        self.skills = Skills(context.field, self.low, self.high, kick_reach=context.kick_reach,
+        # the body's capabilities (the locomotion profile's, through the context) reach every
+        # behaviour and decision through Skills
+        self.skills = Skills(context.field, context.body,
                              kick_max_angle=self.config.kick_max_angle_rad,
                              navigation=self.config.navigation_params(),
                              ball_roll=BallRoll(context.ball_linear_drag,
-                                                context.ball_rolling_decel))
+                                                context.ball_rolling_decel),
+                             ball_radius=context.ball_radius)
+        self.low, self.high = self.skills.walk_low, self.skills.walk_high
         formations = {kind: team_formation(getattr(self.config, key), context.team_size,
                                            context.field)
                       for kind, key in FORMATION_KEYS.items()}

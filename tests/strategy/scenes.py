@@ -16,10 +16,12 @@ import locomotion
 import teamenv
 from strategy.behaviours.skills import Skills
 from strategy.perception.worldmodel import WorldModel
+from teamenv.capabilities import body_capabilities
 from teamenv.field import FieldSpec, field_preset
 from teamenv.sim.playmode import PlayMode
 
 PROFILE = locomotion.load_profile("t1_mj")
+BODY = body_capabilities(PROFILE)
 LOW = np.asarray(PROFILE.command_low, dtype=np.float64)
 HIGH = np.asarray(PROFILE.command_high, dtype=np.float64)
 BODY_RADIUS = float(PROFILE.body_radius)
@@ -27,7 +29,7 @@ BODY_RADIUS = float(PROFILE.body_radius)
 
 def skills(field: str | FieldSpec = "simspark", **kwargs: Any) -> Skills:
     """The behaviours' body facts for the env's default locomotion profile."""
-    return Skills(field_preset(field), LOW, HIGH, kick_reach=float(PROFILE.kick_reach), **kwargs)
+    return Skills(field_preset(field), BODY, **kwargs)
 
 
 def world(position: Sequence[float] = (0.0, 0.0), heading: float = 0.0,

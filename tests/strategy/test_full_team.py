@@ -25,9 +25,7 @@ def context(n: int = 5, field: str = "mj7v7", side: str = "left", channel: str =
             observation_mode: str = "state") -> TeamContext:
     return TeamContext(side=side, agents=tuple(f"{side}_{k + 1}" for k in range(n)),
                        team_size=n, field=field_preset(field), cycle_s=0.02, channel=channel,
-                       observation_mode=observation_mode, seed=0,
-                       walk_low=tuple(scenes.LOW), walk_high=tuple(scenes.HIGH),
-                       kick_reach=float(scenes.PROFILE.kick_reach))
+                       observation_mode=observation_mode, seed=0, body=scenes.BODY)
 
 
 class Recorder:

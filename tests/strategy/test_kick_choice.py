@@ -15,6 +15,7 @@ from strategy.geometry import BallRoll
 from teamenv.config import PhysicsConfig
 from teamenv.sim.world import roll_distance
 
+from . import scenes
 from .scenes import world
 
 ROLL = BallRoll(PhysicsConfig().ball_linear_drag, PhysicsConfig().ball_rolling_decel)
@@ -56,7 +57,7 @@ def test_best_kick_passes_to_the_free_teammate_not_into_the_opponents():
     # free teammate up the left wing, opponents crowding the straight line to goal
     wm = world(position=(-0.3, 0.0), ball=(0.0, 0.0), teammates=[(6.0, 6.0)],
                opponents=[(7.0, 0.0), (7.5, -1.0), (6.5, 1.0)], field="mj7v7")
-    choice = best_kick(wm, 1.2, 2.0, 0.15, 25.0)
+    choice = best_kick(wm, scenes.BODY, 1.2, 2.0, 0.15, 25.0)
     assert choice.margin_s > 1.0
     assert choice.target[1] > 2.0  # towards the free wing, not at the crowd
     assert not choice.shot
@@ -65,7 +66,7 @@ def test_best_kick_passes_to_the_free_teammate_not_into_the_opponents():
 def test_best_kick_shoots_from_close_range_in_front_of_an_open_goal():
     wm = world(position=(20.0, 0.0), ball=(20.3, 0.0), teammates=[(10.0, 5.0)],
                opponents=[(0.0, 0.0)], field="mj7v7")
-    choice = best_kick(wm, 1.2, 2.0, 0.15, 25.0)
+    choice = best_kick(wm, scenes.BODY, 1.2, 2.0, 0.15, 25.0)
     assert choice.shot and choice.target[0] > wm.field.half_length
 
 
@@ -74,19 +75,19 @@ def test_goal_probability_falls_with_distance_and_angle():
     far = world(ball=(12.0, 0.0), field="mj7v7")
     wide = world(ball=(22.0, 12.0), field="mj7v7")
     goal = near.opponent_goal + np.array([1.0, 0.0])
-    p_near = goal_probability(near, goal, 1.0)
-    assert p_near > goal_probability(far, goal, 1.0) > 0.0
-    assert p_near > goal_probability(wide, goal, 1.0)
+    p_near = goal_probability(near, goal, 1.0, scenes.BODY)
+    assert p_near > goal_probability(far, goal, 1.0, scenes.BODY) > 0.0
+    assert p_near > goal_probability(wide, goal, 1.0, scenes.BODY)
     assert 0.0 <= p_near <= 1.0
     behind = world(ball=(28.0, 0.0), field="mj7v7")
-    assert goal_probability(behind, goal, 1.0) == 0.0
+    assert goal_probability(behind, goal, 1.0, scenes.BODY) == 0.0
 
 
 def test_best_kick_never_aims_off_the_pitch():
     for y in (-15.0, 15.0):
         wm = world(position=(0.0, y - 0.3 * math.copysign(1, y)), ball=(0.0, y),
                    opponents=[(2.0, y)], field="mj7v7")
-        choice = best_kick(wm, 1.2, 2.0, 0.15, 25.0)
+        choice = best_kick(wm, scenes.BODY, 1.2, 2.0, 0.15, 25.0)
         assert abs(choice.target[1]) <= wm.field.half_width - 0.5
 
 
