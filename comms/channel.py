@@ -406,6 +406,9 @@ class Channel:
     ) -> Delivery:
         prof = self.profile
         n = self.n_agents
+        if prof.base64_payload:  # listeners hear the server's spelling of the bytes
+            heard_text = prof.heard_text
+            texts = [heard_text(t) for t in texts]
         if not speakers:
             delivery = Delivery([[] for _ in range(n)], illegal)
         else:

@@ -155,6 +155,22 @@ class ChannelProfile:
         return None
 
 
+    def heard_text(self, text: str) -> str:
+        """The text listeners hear when a legal `text` is said: on `mj` the canonical base64 of
+        its bytes (the server decodes a say and re-encodes what it delivers, so "AZjglD==" and
+        "AZjglA==" are one message, heard as "AZjglA=="), elsewhere `text` itself."""
+        if not self.base64_payload or not text.endswith("="):
+            return text  # unpadded base64 uses every bit of its last character
+        if text.endswith("=="):
+            last, unused = -3, 0b1111
+        else:
+            last, unused = -2, 0b11
+        value = BASE64_ALPHABET.find(text[last])
+        if value & unused == 0:
+            return text
+        return text[:last] + BASE64_ALPHABET[value & ~unused] + text[last + 1:]
+
+
 _PADDED_B64 = re.compile("[A-Za-z0-9+/]*={0,2}").fullmatch
 _SEP = "\n"  # separates the texts of one `all_legal` match (not a legal character there)
 

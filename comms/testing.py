@@ -61,13 +61,18 @@ def check_corruption(
     """Property check: a corrupted text decodes to a legal message or raises DecodeError.
 
     Each of `n` random messages gets one character replaced by another legal character of the
-    channel (or is truncated / extended). Returns counts {"rejected": .., "accepted": ..};
-    "accepted" ones were checked to re-encode to exactly the corrupted text (so they are a
-    legal, different message - add `check_bits` to the schema to reject most of those).
+    channel (or is truncated / extended), and goes through what the channel does to a said
+    text: an illegal text is dropped whole (counted "rejected"), a legal one is heard as
+    `profile.heard_text(text)` (on `mj` the canonical base64 of its bytes). Returns counts
+    {"rejected": .., "accepted": .., "intact": ..}: "intact" ones are heard as the original
+    text (on `mj` a change of the last character's unused bits leaves the bytes as they
+    were); "accepted" ones decode to a legal message that re-encodes to exactly what was
+    heard (so a different message - add `check_bits` to the schema to reject most of those).
     """
     rng = rng if rng is not None else np.random.default_rng(seed)
-    charset = schema.profile.charset
-    counts = {"rejected": 0, "accepted": 0}
+    profile = schema.profile
+    charset = profile.charset
+    counts = {"rejected": 0, "accepted": 0, "intact": 0}
     for k in range(n):
         text = schema.encode(schema.random_values(rng))
         mode = k % 4
@@ -81,12 +86,20 @@ def check_corruption(
             while c == text[i]:
                 c = charset[int(rng.integers(len(charset)))]
             bad = text[:i] + c + text[i + 1 :]
+        if profile.check_message(bad) is not None:
+            counts["rejected"] += 1  # the channel drops it whole
+            continue
+        heard = profile.heard_text(bad)
+        if heard == text:
+            counts["intact"] += 1
+            continue
         try:
-            got = schema.decode(bad)
+            got = schema.decode(heard)
         except DecodeError:
             counts["rejected"] += 1
             continue
-        assert schema.encode(got) == bad, f"{schema.name}: {bad!r} decoded to garbage {got}"
+        assert schema.encode(got) == heard, (
+            f"{schema.name}: {bad!r} (heard as {heard!r}) decoded to garbage {got}")
         counts["accepted"] += 1
     return counts
 

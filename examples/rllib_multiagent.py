@@ -64,6 +64,9 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--env-runners", type=int, default=0,
                         help="sampling worker processes (0 = sample in the driver)")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--ray-address", default=None,
+                        help="join this Ray cluster (auto, HOST:PORT, ray://HOST:PORT); default: "
+                             "a private local instance")
     parser.add_argument("--out", type=Path, default=Path("runs/rllib_multiagent"))
     parser.add_argument("--smoke", action="store_true",
                         help="a tiny run for CI: 2 iterations of 256 env steps, 1 v 1")
@@ -73,10 +76,15 @@ def main(argv: list[str] | None = None) -> None:
 
     import ray
 
+    from teamenv.tournament.ray_cluster import init_ray
+
     # Ray's dashboard and metrics agents are not needed and cost seconds at start-up.
     os.environ.setdefault("RAY_DISABLE_USAGE_STATS", "1")
-    ray.init(num_cpus=max(1, args.env_runners + 1), include_dashboard=False,
-             log_to_driver=False, configure_logging=False)
+    # a private local instance unless --ray-address names a cluster to join (a plain
+    # ray.init(num_cpus=...) fails wherever another Ray cluster runs or once ran)
+    local = args.ray_address in (None, "local")
+    init_ray(args.ray_address, max(1, args.env_runners + 1) if local else None,
+             include_dashboard=False, log_to_driver=False, configure_logging=False)
     try:
         algo = build_algorithm(args)
         rows = []

@@ -22,6 +22,7 @@ from teamenv.errors import MissingExtraError
 from teamenv.match import MatchResult, play_match
 from teamenv.teams import resolve_team_class, team_version
 from teamenv.tournament.errors import TournamentConfigError
+from teamenv.tournament.ray_cluster import LOCAL, init_ray
 from teamenv.tournament.schedule import MatchTask
 
 BACKENDS = ("process", "ray", "serial")
@@ -262,8 +263,10 @@ class SerialBackend:
 class RayBackend:
     """Play matches as Ray tasks (the ``ray`` extra), on a cluster or a local Ray instance.
 
-    ``address``: a running cluster (``"auto"``, ``"ray://host:10001"``); None starts a local
-    instance with ``num_cpus`` CPUs (or joins an already initialised one). Team code must be
+    ``address``: a running cluster to join (``"auto"``, ``"HOST:PORT"``,
+    ``"ray://host:10001"``); None (or ``"local"``) starts a private local instance with
+    ``num_cpus`` CPUs, whatever other Ray cluster runs on the machine (see
+    ``teamenv.ray_cluster``). If this process already initialised Ray, that instance is used. Team code must be
     importable on every node. A task whose worker dies is retried ``max_retries`` times by Ray,
     then reported as an error outcome. Ray reuses its worker processes, so each imports the
     teams and looks up their versions once.
@@ -297,11 +300,10 @@ class RayBackend:
 
         owns = not ray.is_initialized()
         if owns:
-            extra: dict[str, Any] = {}
-            if self.address is None and self.worker_niceness is not None:
-                extra["_system_config"] = {"worker_niceness": int(self.worker_niceness)}
-            ray.init(address=self.address, num_cpus=self.num_cpus, include_dashboard=False,
-                     log_to_driver=False, configure_logging=False, **extra)
+            niceness = None if self.worker_niceness is None else \
+                {"worker_niceness": int(self.worker_niceness)}
+            init_ray(self.address, self.num_cpus, local_system_config=niceness,
+                     include_dashboard=False, log_to_driver=False, configure_logging=False)
         remote = ray.remote(num_cpus=1, max_retries=self.max_retries,
                             retry_exceptions=False)(_run_task)
         self.workers = max(1, int(ray.cluster_resources().get("CPU", 1)))
@@ -341,7 +343,9 @@ def make_backend(backend: str | Backend = "process", jobs: int | None = None,
     if backend == "process":
         return ProcessPoolBackend(jobs)
     if backend == "ray":
-        return RayBackend(address=ray_address, num_cpus=jobs if ray_address is None else None)
+        local = ray_address in (None, LOCAL)
+        return RayBackend(address=None if local else ray_address,
+                          num_cpus=jobs if local else None)
     if backend == "serial":
         return SerialBackend()
     raise TournamentConfigError(f"backend: {backend!r}; choose one of {list(BACKENDS)}")

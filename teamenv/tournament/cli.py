@@ -51,7 +51,10 @@ def add_tournament_commands(subparsers: argparse._SubParsersAction) -> None:
     run.add_argument("--backend", choices=("process", "ray", "serial"), default="process",
                      help="process: local worker pool (default); ray: Ray tasks; serial: "
                      "every match in this process (no fault isolation; for debugging)")
-    run.add_argument("--ray-address", default=None, help="Ray cluster address (e.g. auto)")
+    run.add_argument("--ray-address", default=None,
+                     help="with --backend ray: join this Ray cluster (auto, HOST:PORT or "
+                          "ray://HOST:PORT); default: a private local Ray instance with --jobs "
+                          "CPUs, whatever other Ray cluster runs on the machine")
     run.add_argument("--replay-dir", type=Path, default=None, help="record every match here")
     run.add_argument("--resume", action="store_true", help="continue a stored tournament: "
                      "play only the missing matches (teams/options may be omitted)")

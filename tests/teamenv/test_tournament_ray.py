@@ -26,7 +26,7 @@ def test_ray_backend_equals_process_pool(tmp_path):
     ray = pytest.importorskip("ray", reason="the ray extra is installed in CI")
     t = round_robin("ray", ["chaser", "static"], games_per_pairing=2, seed=3, options=OPTIONS)
     pool = run_tournament(t, tmp_path / "pool.sqlite", jobs=2, progress=False)
-    # the backend starts a local instance: ray.init(num_cpus=2, include_dashboard=False)
+    # the backend starts a private local instance: ray.init(address="local", num_cpus=2)
     on_ray = run_tournament(t, tmp_path / "ray.sqlite", backend="ray", jobs=2, progress=False)
     assert not ray.is_initialized()  # and shuts down what it started
     serial = run_tournament(t, tmp_path / "serial.sqlite", backend="serial", progress=False)
@@ -46,16 +46,22 @@ def test_local_ray_workers_are_not_niced(monkeypatch):
     ray = pytest.importorskip("ray", reason="the ray extra is installed in CI")
     seen = {}
 
+    class StopHere(Exception):
+        pass
+
     def fake_init(**kwargs):
         seen.update(kwargs)
-        raise RuntimeError("stop here")
+        raise StopHere("stop here")
 
     monkeypatch.setattr(ray, "is_initialized", lambda: False)
     monkeypatch.setattr(ray, "init", fake_init)
-    with pytest.raises(RuntimeError, match="stop here"):
+    monkeypatch.setattr("teamenv.tournament.ray_cluster._check_reachable", lambda a: None)
+    with pytest.raises(StopHere):
         list(make_backend("ray", jobs=2).run([]))
     assert seen["num_cpus"] == 2 and seen["_system_config"] == {"worker_niceness": 0}
+    assert seen["address"] == "local"  # a private instance, never someone else's cluster
     seen.clear()
-    with pytest.raises(RuntimeError, match="stop here"):
+    with pytest.raises(StopHere):
         list(make_backend("ray", ray_address="auto").run([]))
     assert seen["address"] == "auto" and "_system_config" not in seen
+    assert "num_cpus" not in seen  # a cluster's resources are its own
