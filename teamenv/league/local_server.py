@@ -99,6 +99,16 @@ class LocalServer:
             raise LeagueError(f"local server: rcsssmj refused {team} {unum} ({model}): "
                               "a third team, a taken number or an unknown model")
         self._agents[key] = agent
+        # MuJoCo's recompile leaves the new robot's motor controls uninitialised (any bytes: a
+        # huge value MuJoCo zeroes with a warning, or a finite one that drives the joints until
+        # the first command arrives): start them at 0, so the same seed plays the same match
+        import mujoco
+
+        model = self.sim.mj_model
+        for i in range(model.nu):
+            name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_ACTUATOR, i) or ""
+            if name.startswith(agent.agent_id.prefix):
+                self.sim.mj_data.ctrl[i] = 0.0
         self._in_own_rng(self.sim.generate_perceptions)
         return self._perceive(key)
 

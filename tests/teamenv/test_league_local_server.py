@@ -77,6 +77,18 @@ def test_local_server_moves_the_robot_as_the_real_server_does() -> None:
     assert np.median(np.abs(local[k:] - real[k:])) < 0.002
 
 
+def test_a_joining_robot_starts_with_its_motors_at_rest() -> None:
+    """MuJoCo's recompile leaves a new robot's motor controls uninitialised (whatever bytes the
+    memory held): LocalServer zeroes them, else the same trial walked differently from run to
+    run (and once fell where it had stayed up)."""
+    from teamenv.league.local_server import LocalServer
+
+    srv = LocalServer()
+    for team, unum in (("A", 1), ("A", 2), ("B", 1)):
+        srv.join(team, unum)
+        assert srv.sim.mj_data.ctrl.size > 0 and np.all(srv.sim.mj_data.ctrl == 0.0)
+
+
 def test_local_server_errors_name_the_problem() -> None:
     from teamenv.league.local_server import LocalServer
 
