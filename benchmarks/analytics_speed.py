@@ -67,6 +67,8 @@ def tiled(path: Path, times: int, out: Path) -> Path:
     """Write the replay at ``path`` ``times`` times in a row (events shifted) to ``out``."""
     import numpy as np
 
+    from teamenv.replay import write_replay
+
     with np.load(path) as data:
         arrays = {k: data[k] for k in data.files}
     t = len(arrays["time_s"])
@@ -81,9 +83,8 @@ def tiled(path: Path, times: int, out: Path) -> Path:
     for k in events:
         parts = [arrays[k] + i * t if k.endswith("_cycle") else arrays[k] for i in range(times)]
         out_arrays[k] = np.concatenate(parts)
-    with open(out, "wb") as fh:
-        np.savez_compressed(fh, **out_arrays)
-    return out
+    meta = json.loads(out_arrays.pop("metadata").tobytes().decode())
+    return write_replay(out, out_arrays, meta)  # a new checksum for the new content
 
 
 WALL: dict[str, float] = {}

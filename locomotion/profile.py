@@ -260,9 +260,21 @@ def load_profile(name_or_path: str | Path) -> Profile:
     if not path.is_file():
         raise ProfileError(text_name, "path", str(path), "file does not exist")
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise ProfileError(text_name, "path", str(path), f"cannot be read: {exc}") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = raw.count(b"\n", 0, exc.start) + 1
+        raise ProfileError(text_name, "json", str(path), f"not UTF-8 text: byte "
+                           f"{raw[exc.start]:#04x} at line {line} ({exc.reason})") from None
+    try:
+        data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise ProfileError(text_name, "json", str(path), f"not valid JSON: {exc}") from None
+    except (ValueError, RecursionError) as exc:  # e.g. an integer of over 4300 digits
+        raise ProfileError(text_name, "json", str(path), f"not readable JSON: {exc}") from None
     return profile_from_dict(data, label=str(path), path=str(path))
 
 

@@ -50,6 +50,7 @@ import numpy as np
 from teamenv.actions import BOX_SIZE
 from teamenv.errors import ConfigError
 from teamenv.field import FieldSpec
+from teamenv.input_files import read_npz
 from teamenv.sim.perception import N_PLAY_MODES, flat_observation_size
 from teamenv.sim.vision import VisionLayout, vision_layout
 from teamenv.slots import SELF_COLUMNS
@@ -252,45 +253,43 @@ def load_policy(path: str | Path) -> MLPPolicy:
     path = Path(path)
     if not path.is_file():
         raise PolicyFileError(f"policy file {str(path)!r} not found")
-    try:
-        data = np.load(path, allow_pickle=False)
-    except (OSError, ValueError) as exc:
-        raise PolicyFileError(f"policy file {str(path)!r}: not an .npz file ({exc})") from exc
-    with data:
-        def text(key: str, default: str | None = None) -> str:
-            if key not in data:
-                if default is None:
-                    raise PolicyFileError(f"policy file {str(path)!r}: no {key!r} entry "
-                                          f"(format {MLP_FORMAT})")
-                return default
-            return str(data[key])
+    data = read_npz(path, f"policy file {str(path)!r}", PolicyFileError,
+                    what=f"{MLP_FORMAT} policy file")
 
-        fmt = text("format")
-        if fmt != MLP_FORMAT:
-            raise PolicyFileError(f"policy file {str(path)!r}: format {fmt!r}, expected "
-                                  f"{MLP_FORMAT!r}")
-        n_layers = int(data["n_layers"]) if "n_layers" in data else 0
-        missing = [k for i in range(n_layers) for k in (f"W{i}", f"b{i}") if k not in data]
-        if n_layers < 1 or missing:
-            raise PolicyFileError(f"policy file {str(path)!r}: n_layers {n_layers}, missing "
-                                  f"{missing}")
-        layers = [(data[f"W{i}"], data[f"b{i}"]) for i in range(n_layers)]
-        optional = {k: data[k] for k in ("obs_mean", "obs_std") if k in data}
-        policy = MLPPolicy(
-            layers, activation=text("activation", "tanh"),
-            output_activation=text("output_activation", "identity"),
-            observation_mode=text("observation_mode", "state"),
-            obs_clip=float(data["obs_clip"]) if "obs_clip" in data else None,
-            team_size=int(data["team_size"]) if "team_size" in data else None,
-            kick_gate_m=float(data["kick_gate_m"]) if "kick_gate_m" in data else None,
-            walk_to_ball=bool(data["walk_to_ball"]) if "walk_to_ball" in data else False,
-            action_repeat=int(data["action_repeat"]) if "action_repeat" in data else 1,
-            source=repr(str(path)), **optional)
-        if "observation_size" in data and \
-                int(data["observation_size"]) != policy.observation_size:
-            raise PolicyFileError(f"policy file {str(path)!r}: observation_size "
-                                  f"{int(data['observation_size'])} but W0 has "
-                                  f"{policy.observation_size} rows")
+    def text(key: str, default: str | None = None) -> str:
+        if key not in data:
+            if default is None:
+                raise PolicyFileError(f"policy file {str(path)!r}: no {key!r} entry "
+                                      f"(format {MLP_FORMAT})")
+            return default
+        return str(data[key])
+
+    fmt = text("format")
+    if fmt != MLP_FORMAT:
+        raise PolicyFileError(f"policy file {str(path)!r}: format {fmt!r}, expected "
+                              f"{MLP_FORMAT!r}")
+    n_layers = int(data["n_layers"]) if "n_layers" in data else 0
+    missing = [k for i in range(n_layers) for k in (f"W{i}", f"b{i}") if k not in data]
+    if n_layers < 1 or missing:
+        raise PolicyFileError(f"policy file {str(path)!r}: n_layers {n_layers}, missing "
+                              f"{missing}")
+    layers = [(data[f"W{i}"], data[f"b{i}"]) for i in range(n_layers)]
+    optional = {k: data[k] for k in ("obs_mean", "obs_std") if k in data}
+    policy = MLPPolicy(
+        layers, activation=text("activation", "tanh"),
+        output_activation=text("output_activation", "identity"),
+        observation_mode=text("observation_mode", "state"),
+        obs_clip=float(data["obs_clip"]) if "obs_clip" in data else None,
+        team_size=int(data["team_size"]) if "team_size" in data else None,
+        kick_gate_m=float(data["kick_gate_m"]) if "kick_gate_m" in data else None,
+        walk_to_ball=bool(data["walk_to_ball"]) if "walk_to_ball" in data else False,
+        action_repeat=int(data["action_repeat"]) if "action_repeat" in data else 1,
+        source=repr(str(path)), **optional)
+    if "observation_size" in data and \
+            int(data["observation_size"]) != policy.observation_size:
+        raise PolicyFileError(f"policy file {str(path)!r}: observation_size "
+                              f"{int(data['observation_size'])} but W0 has "
+                              f"{policy.observation_size} rows")
     return policy
 
 

@@ -1,6 +1,12 @@
 """Replays: per-cycle positions, play mode, score, kicks, touches, falls and messages of a match
 (and, optionally, each agent's belief and roles), saved as a compressed .npz.
 
+Format 3 (written today) is format 2 with a checksum: the metadata's ``sha256`` is the SHA-256
+of the file's content (``replay_checksum``: every array's name, dtype, shape and bytes, and the
+rest of the metadata), and ``load_replay`` refuses a file whose content does not match it, so a
+damaged replay that still parses is an error rather than a different match. Formats 1 and 2
+(written before checksums) still load; their only guard is the zip's CRC-32 of each member.
+
 Format 2 adds to format 1 (which still loads; its new fields are None):
 
 - ``attack_sign`` (T,) int8: +1 when the left side attacks +x in that row (sides change at half
@@ -30,9 +36,9 @@ when it acted on the observation of row t (in step t + 1); the last row is unkno
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
-import zipfile
 from collections.abc import Mapping
 from dataclasses import dataclass, fields
 from pathlib import Path
@@ -40,10 +46,13 @@ from typing import Any
 
 import numpy as np
 
-from teamenv.errors import ConfigError
+from teamenv.errors import ConfigError, value_repr
+from teamenv.input_files import read_npz
 
-REPLAY_FORMAT = 2
-READABLE_FORMATS = (1, 2)
+REPLAY_FORMAT = 3
+READABLE_FORMATS = (1, 2, 3)
+#: The metadata key of a format-3 replay's checksum (``replay_checksum``).
+CHECKSUM_KEY = "sha256"
 #: What a team's optional ``annotations()`` may give per agent name, in the team's own frame
 #: (attacking +x, as its observations): ``pose`` (x, y, heading) m/rad, ``ball`` (x, y) m,
 #: ``role`` int, ``role_vector`` sequence of N ints (the team's assignment as the agent holds
@@ -247,18 +256,42 @@ class ReplayRecorder:
         return out
 
     def save(self, path: str | Path, metadata: dict[str, Any]) -> Path:
-        path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        meta = dict(metadata, format=REPLAY_FORMAT, field=self.env.field.name,
+        meta = dict(metadata, field=self.env.field.name,
                     team_size=self.env.team_size, cycle_s=self.env.physics.cycle_s,
                     half_length=float(self.env.field.half_length),
                     half_width=float(self.env.field.half_width),
                     half_goal_width=float(self.env.field.half_goal_width),
                     extras=self.extras)
-        with open(path, "wb") as fh:
-            np.savez_compressed(fh, **self.arrays(),
-                                metadata=np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8))
-        return path
+        return write_replay(path, self.arrays(), meta)
+
+
+def replay_checksum(arrays: Mapping[str, np.ndarray], metadata: Mapping[str, Any]) -> str:
+    """SHA-256 (hex) of a replay's content: each array's name, dtype, shape and C-order bytes
+    (in name order), then the metadata without its checksum as sorted JSON."""
+    digest = hashlib.sha256()
+    for name in sorted(arrays):
+        array = np.ascontiguousarray(arrays[name])
+        digest.update(f"{name}|{array.dtype.str}|{array.shape}|".encode())
+        digest.update(array.tobytes())
+    rest = {k: v for k, v in metadata.items() if k != CHECKSUM_KEY}
+    digest.update(json.dumps(rest, sort_keys=True).encode())
+    return digest.hexdigest()
+
+
+def write_replay(path: str | Path, arrays: Mapping[str, np.ndarray],
+                 metadata: Mapping[str, Any]) -> Path:
+    """Write a replay file (format ``REPLAY_FORMAT``): ``arrays`` and ``metadata`` (JSON-able;
+    its format is set here) with their checksum. Returns the path."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    meta = {k: v for k, v in metadata.items() if k != CHECKSUM_KEY}
+    meta["format"] = REPLAY_FORMAT
+    meta = json.loads(json.dumps(meta))  # what a reader gets back (tuples as lists, ...)
+    meta[CHECKSUM_KEY] = replay_checksum(arrays, meta)
+    with open(path, "wb") as fh:  # a file object: numpy would append .npz to a bare name
+        np.savez_compressed(fh, **arrays,
+                            metadata=np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8))
+    return path
 
 
 def event_arrays(kicks: np.ndarray, touches: np.ndarray, goals: np.ndarray
@@ -333,39 +366,40 @@ def _fill_annotation(values: Mapping[str, Any], i: int, sign: float, pose: np.nd
 
 
 def load_replay(path: str | Path) -> Replay:
-    """Load a replay written by ReplayRecorder (format 1 or 2).
+    """Load a replay written by ReplayRecorder (format 1, 2 or 3).
 
-    A missing, truncated or malformed file raises ConfigError naming the file and what is
-    wrong with it."""
+    A missing, truncated, damaged or malformed file, and a format-3 file whose content does
+    not match its checksum, raise ConfigError naming the file and what is wrong with it."""
     name = str(path)
+    where = f"replay {name!r}"
+    arrays = read_npz(path, where, what="teamenv replay file")
+    if "metadata" not in arrays:
+        raise ConfigError(f"{where}: not a teamenv replay file (no metadata; it holds "
+                          f"{sorted(arrays)})")
     try:
-        with np.load(Path(path), allow_pickle=False) as data:
-            keys = set(data.files)
-            if "metadata" not in keys:
-                raise ConfigError(f"replay {name!r}: not a teamenv replay file (no metadata; "
-                                  f"it holds {sorted(keys)})")
-            meta = json.loads(bytes(data["metadata"]).decode())
-            if not isinstance(meta, dict) or meta.get("format") not in READABLE_FORMATS:
-                got = meta.get("format") if isinstance(meta, dict) else meta
-                raise ConfigError(f"replay {name!r}: format {got!r}, this teamenv reads "
-                                  f"formats {list(READABLE_FORMATS)}")
-            wanted = ["ball", "players", "play_mode", "score", "time_s"]
-            if meta["format"] >= 2:
-                wanted += _FORMAT_2_ARRAYS
-            missing = [k for k in wanted if k not in keys]
-            if missing:
-                raise ConfigError(f"replay {name!r}: format {meta['format']} but the array(s) "
-                                  f"{missing} are missing")
-            if meta.get("extras"):
-                wanted += [k for k in _EXTRA_ARRAYS if k in keys]
-            arrays = {k: data[k] for k in wanted}
-    except ConfigError:
-        raise
-    except (OSError, KeyError, ValueError, EOFError, zipfile.BadZipFile,
-            UnicodeDecodeError) as exc:
-        raise ConfigError(f"replay {name!r}: not a readable teamenv replay file "
-                          f"({type(exc).__name__}: {exc})") from exc
+        meta = json.loads(arrays.pop("metadata").tobytes().decode("utf-8"))
+    except (UnicodeDecodeError, ValueError, RecursionError) as exc:
+        raise ConfigError(f"{where}: its metadata is not JSON text ({exc})") from None
+    fmt = meta.get("format") if isinstance(meta, dict) else None
+    if isinstance(fmt, bool) or fmt not in READABLE_FORMATS:
+        raise ConfigError(f"{where}: format {value_repr(fmt if isinstance(meta, dict) else meta)}"
+                          f", this teamenv reads formats {list(READABLE_FORMATS)}")
+    if fmt >= 3:
+        _check_checksum(where, arrays, meta)
+    wanted = ["ball", "players", "play_mode", "score", "time_s"]
+    if fmt >= 2:
+        wanted += _FORMAT_2_ARRAYS
+    missing = [k for k in wanted if k not in arrays]
+    if missing:
+        raise ConfigError(f"{where}: format {fmt} but the array(s) {missing} are missing")
+    if meta.get("extras"):
+        wanted += [k for k in _EXTRA_ARRAYS if k in arrays]
+    arrays = {k: arrays[k] for k in wanted}
     _check_shapes(name, arrays)
+    team_size = meta.get("team_size")
+    if team_size is not None and team_size != arrays["players"].shape[1] // 2:
+        raise ConfigError(f"{where}: metadata says team_size {value_repr(team_size)} but "
+                          f"players holds {arrays['players'].shape[1]} players")
     if "belief_pose_error" in arrays:  # beliefs stored as errors from the truth
         error = _unquantise(arrays.pop("belief_pose_error"), POSE_ERROR_STEPS)
         pose = arrays["players"].astype(np.float32) + error
@@ -378,21 +412,78 @@ def load_replay(path: str | Path) -> Replay:
     return Replay(metadata=meta, **{k: v for k, v in arrays.items() if k in known})
 
 
+def _check_checksum(where: str, arrays: Mapping[str, np.ndarray], meta: dict[str, Any]) -> None:
+    stored = meta.get(CHECKSUM_KEY)
+    if not isinstance(stored, str):
+        raise ConfigError(f"{where}: format {meta['format']} but its metadata has no "
+                          f"{CHECKSUM_KEY!r} checksum (got {value_repr(stored)})")
+    actual = replay_checksum(arrays, meta)
+    if stored != actual:
+        raise ConfigError(f"{where}: checksum mismatch: the content's SHA-256 is "
+                          f"{actual[:16]}..., the file says {value_repr(stored, 24)}: it was "
+                          "damaged or changed after it was written")
+
+
+#: dtype kinds and trailing shape of each array (None: the 2N players; "T": rows; "N": N)
+_ARRAY_SPECS: dict[str, tuple[str, tuple[Any, ...]]] = {
+    "ball": ("f", ("T", 4)), "players": ("f", ("T", None, 3)), "play_mode": ("iu", ("T",)),
+    "score": ("iu", ("T", 2)), "time_s": ("f", ("T",)), "attack_sign": ("iu", ("T",)),
+    "fallen": ("b", ("T", None)), "say_bytes": ("iu", ("T", None)),
+    "say_drops": ("iu", ("T", None)), "heard_from": ("iu", ("T", None)),
+    "kick_cycle": ("iu", ("K",)), "kick_player": ("iu", ("K",)), "kick_distance": ("f", ("K",)),
+    "kick_direction": ("f", ("K",)), "touch_cycle": ("iu", ("M",)),
+    "touch_player": ("iu", ("M",)), "goal_cycle": ("iu", ("G",)), "goal_team": ("iu", ("G",)),
+    "goal_player": ("iu", ("G",)), "belief_pose_error": ("iu", ("T", None, 3)),
+    "belief_ball_error": ("iu", ("T", None, 2)), "role": ("iu", ("T", None)),
+    "role_vector": ("iu", ("T", None, "N")), "belief_pose": ("f", ("T", None, 3)),
+    "belief_ball": ("f", ("T", None, 2)),
+}
+
+
 def _check_shapes(name: str, arrays: dict[str, np.ndarray]) -> None:
-    """Per-cycle arrays agree in length; players is (T, 2N, 3); events point at real rows."""
-    t = len(arrays["time_s"])
+    """Each array of the dtype kind and shape its name says (per-cycle arrays of time_s's
+    length, players (T, 2N, 3), event arrays of one length per event kind); events point at
+    recorded rows and real players."""
+    t = len(arrays["time_s"]) if arrays["time_s"].ndim else 0
     players = arrays["players"]
-    if players.ndim != 3 or players.shape[2] != 3 or players.shape[1] % 2:
+    if players.ndim != 3 or players.shape[2] != 3 or players.shape[1] % 2 or \
+            not players.shape[1]:
         raise ConfigError(f"replay {name!r}: players has shape {players.shape}, "
                           "expected (cycles, 2 x team size, 3)")
-    per_cycle = ("ball", "players", "play_mode", "score", "attack_sign", "fallen", "say_bytes",
-                 "say_drops", "heard_from", "belief_pose", "belief_ball", "belief_pose_error",
-                 "belief_ball_error", "role", "role_vector")
-    for key in per_cycle:
-        if key in arrays and len(arrays[key]) != t:
-            raise ConfigError(f"replay {name!r}: {key} has {len(arrays[key])} rows but time_s "
-                              f"has {t}")
+    sizes: dict[str, int] = {"T": t, "N": players.shape[1] // 2}
+    for key, array in arrays.items():
+        kinds, shape = _ARRAY_SPECS[key]
+        if array.dtype.kind not in kinds:
+            raise ConfigError(f"replay {name!r}: {key} has dtype {array.dtype}, expected "
+                              f"{'a float' if kinds == 'f' else 'a bool' if kinds == 'b' else 'an integer'} "
+                              "dtype")
+        if array.ndim != len(shape):
+            raise ConfigError(f"replay {name!r}: {key} has shape {array.shape}, expected "
+                              f"{len(shape)} dimension(s)")
+        for axis, (size, want) in enumerate(zip(array.shape, shape, strict=True)):
+            if want is None:
+                want = players.shape[1]
+            if isinstance(want, str):
+                if want not in sizes:
+                    sizes[want] = size  # the first event array of a kind sets its count
+                if size != sizes[want] and want == "T":
+                    raise ConfigError(f"replay {name!r}: {key} has {size} rows but time_s "
+                                      f"has {t}")
+                if size != sizes[want]:
+                    raise ConfigError(f"replay {name!r}: {key} has {size} entries on axis "
+                                      f"{axis} but the other {key.split('_')[0]} arrays "
+                                      f"{sizes[want]}")
+            elif size != want:
+                raise ConfigError(f"replay {name!r}: {key} has shape {array.shape}, expected "
+                                  f"{want} on axis {axis}")
     for key in ("kick_cycle", "touch_cycle", "goal_cycle"):
         if key in arrays and arrays[key].size and (arrays[key].min() < 0 or
                                                    arrays[key].max() >= t):
             raise ConfigError(f"replay {name!r}: {key} points outside the {t} recorded cycles")
+    n = players.shape[1]
+    for key, low in (("kick_player", 0), ("touch_player", 0), ("goal_player", -1),
+                     ("goal_team", 0)):
+        high = 2 if key == "goal_team" else n
+        if key in arrays and arrays[key].size and (arrays[key].min() < low or
+                                                   arrays[key].max() >= high):
+            raise ConfigError(f"replay {name!r}: {key} holds values outside [{low}, {high - 1}]")

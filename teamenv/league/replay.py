@@ -19,7 +19,6 @@ not known (zeros), so the message statistics of a league replay are partial.
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 from typing import Any
@@ -27,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from teamenv.field import field_preset
-from teamenv.replay import REPLAY_FORMAT, event_arrays
+from teamenv.replay import event_arrays, write_replay
 
 from .controller import CYCLE_S, quat_yaw
 from .observation import play_mode_index, torso_down
@@ -167,14 +166,9 @@ class LeagueReplayRecorder:
         }
 
     def save(self, path: str | Path, metadata: dict[str, Any]) -> Path:
-        path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
         f = self.field
-        meta = dict(metadata, format=REPLAY_FORMAT, field=self.field_name, team_size=self.n,
+        meta = dict(metadata, field=self.field_name, team_size=self.n,
                     cycle_s=CYCLE_S, half_length=float(f.half_length),
                     half_width=float(f.half_width), half_goal_width=float(f.half_goal_width),
                     extras=False, world="league (rcsssmj LocalServer)")
-        with open(path, "wb") as fh:
-            np.savez_compressed(fh, **self.arrays(),
-                                metadata=np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8))
-        return path
+        return write_replay(path, self.arrays(), meta)

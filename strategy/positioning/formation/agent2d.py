@@ -50,6 +50,7 @@ import numpy as np
 
 from strategy.positioning.formation.model import Formation, FormationError, Role
 from teamenv.errors import value_repr
+from teamenv.input_files import read_text
 from teamenv.field import FieldSpec
 
 AGENT2D_PITCH_M: tuple[float, float] = (105.0, 68.0)
@@ -148,10 +149,7 @@ def _read_source(source: str | Path) -> tuple[str, str, str]:
     if isinstance(source, Path) or ("\n" not in str(source) and len(str(source)) < 4096
                                     and not str(source).lstrip().startswith("{")):
         p = Path(source)
-        try:
-            return p.read_text(encoding="utf-8"), str(p), p.stem
-        except OSError as exc:
-            raise FormationError(f"agent2d formation {p}: cannot be read: {exc}") from None
+        return read_text(p, f"agent2d formation {p}", FormationError), str(p), p.stem
     return str(source), "<text>", "agent2d"
 
 
@@ -214,6 +212,8 @@ def _parse_json(text: str, src: str) -> _Parsed:
         raise FormationError(
             f"{src}: not valid JSON (line {exc.lineno}, column {exc.colno}): {exc.msg}"
         ) from None
+    except (ValueError, RecursionError) as exc:  # e.g. an integer of over 4300 digits
+        raise FormationError(f"{src}: not readable JSON: {exc}") from None
     if not isinstance(doc, dict):
         raise FormationError(f"{src}: the top level must be a JSON object")
     for key in ("method", "role", "data"):

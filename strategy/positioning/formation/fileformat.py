@@ -33,7 +33,9 @@ from pathlib import Path
 from typing import Any
 
 from strategy.positioning.formation.model import Formation, FormationError, Role
+from teamenv.errors import value_repr
 from teamenv.field import FIELD_PRESETS, FieldSpec
+from teamenv.input_files import read_text
 
 FORMAT_NAME = "teamenv.formation"
 FORMAT_VERSION = 1
@@ -104,10 +106,7 @@ def read_formation(
 ) -> Formation:
     """Read a formation file (JSON, this module's format); optionally scale it to ``field``."""
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise FormationError(f"formation file {p}: cannot be read: {exc}") from None
+    text = read_text(p, f"formation file {p}", FormationError)
     try:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
@@ -115,6 +114,8 @@ def read_formation(
             f"formation file {p}: not valid JSON (line {exc.lineno}, column {exc.colno}): "
             f"{exc.msg}"
         ) from None
+    except (ValueError, RecursionError) as exc:  # e.g. an integer of over 4300 digits
+        raise FormationError(f"formation file {p}: not readable JSON: {exc}") from None
     return formation_from_dict(data, source=str(p), field=field, team_size=team_size)
 
 
