@@ -26,37 +26,16 @@ import math
 from dataclasses import dataclass, field
 
 from comms.profiles import get_profile
+from teamenv.landmarks import MJ_MARKS_LEFT, MJ_MARKS_RIGHT
 
 from . import effectors
 from .controller import LocomotionController
 from .errors import LeagueError
 from .perception import Perception, Polar
 
-#: server mark -> our landmark name, for the left team (team frame = world frame)
-LEFT_MARKS: dict[str, str] = {
-    "l_luf": "corner_own_left", "l_llf": "corner_own_right",
-    "l_ruf": "corner_their_left", "l_rlf": "corner_their_right",
-    "t_cuf": "halfway_left", "t_clf": "halfway_right",
-    "x_cuc": "circle_left", "x_clc": "circle_right",
-    "p_lpm": "penalty_own", "p_rpm": "penalty_their",
-    "g_lup": "post_own_left", "g_llp": "post_own_right",
-    "g_rup": "post_their_left", "g_rlp": "post_their_right",
-}
-
-
-def _turned(mark: str) -> str:
-    """The mark at the world point turned by pi: left<->right, upper<->lower."""
-    kind, where = mark.split("_", 1)
-    swap = {"l": "r", "r": "l", "u": "l"}
-    if kind in ("l", "g"):            # l_<side><u/l>f, g_<side><u/l>p
-        return f"{kind}_{swap[where[0]]}{'l' if where[1] == 'u' else 'u'}{where[2:]}"
-    if kind in ("t", "x"):            # t_c<u/l>f, x_c<u/l>c
-        return f"{kind}_c{'l' if where[1] == 'u' else 'u'}{where[2:]}"
-    return f"p_{swap[where[0]]}{where[1:]}"  # p_<side>pm
-
-
-#: the same for the right team
-RIGHT_MARKS: dict[str, str] = {_turned(m): name for m, name in LEFT_MARKS.items()}
+#: server mark -> our landmark name, for the left and the right team (teamenv.landmarks)
+LEFT_MARKS: dict[str, str] = MJ_MARKS_LEFT
+RIGHT_MARKS: dict[str, str] = MJ_MARKS_RIGHT
 
 
 @dataclass
