@@ -12,8 +12,11 @@ class FieldSpec:
     """Dimensions of one pitch, in metres.
 
     x runs along the length (goal to goal), y across; the left team's goal is at x = -length/2.
-    ``goal_height`` (crossbar) and ``penalty_spot_distance`` (from the goal line; 0 = no
-    penalty spot) place the vision landmarks (``teamenv.landmarks``).
+    ``goal_height`` (crossbar), ``penalty_spot_distance`` (from the goal line; 0 = no
+    penalty spot) and the goal area (``goal_area_length`` from the goal line by
+    ``goal_area_width`` across; 0 = none; RCSSServerMJ's "goalie area") place the vision
+    landmarks (``teamenv.landmarks``). ``penalty_length`` / ``penalty_width`` are the
+    penalty area's depth from the goal line and its width across.
     """
 
     name: str
@@ -28,6 +31,8 @@ class FieldSpec:
     default_team_size: int
     goal_height: float = 0.8
     penalty_spot_distance: float = 0.0
+    goal_area_length: float = 0.0
+    goal_area_width: float = 0.0
 
     @property
     def half_length(self) -> float:
@@ -47,7 +52,9 @@ class FieldSpec:
 
 
 # simspark: the classic 3D league (rcssserver3d naosoccersim.rb defaults).
-# mj7v7: RCSSServerMJ's default "ssim" rules. fifa: a full-size pitch.
+# mj7v7: RCSSServerMJ's "fifa7vs7" field, the default of its "ssim" rules (7 v 7, 5-minute
+# halves); fifa: RCSSServerMJ's "fifa" field (a full-size pitch). Both are read against the
+# installed server's rcsssmj.games.soccer.soccer_fields (tests/teamenv/test_field_league.py).
 FIELD_PRESETS: dict[str, FieldSpec] = {
     "simspark": FieldSpec(
         name="simspark", length=30.0, width=20.0, goal_width=2.1, goal_depth=0.6,
@@ -56,15 +63,15 @@ FIELD_PRESETS: dict[str, FieldSpec] = {
     ),
     "mj7v7": FieldSpec(
         name="mj7v7", length=55.0, width=36.0, goal_width=3.66, goal_depth=1.0,
-        penalty_length=8.0, penalty_width=20.0, center_circle_radius=4.5,
-        goal_post_radius=0.06, default_team_size=7, goal_height=1.83,
-        penalty_spot_distance=7.32,
+        penalty_length=9.0, penalty_width=16.5, center_circle_radius=5.5,
+        goal_post_radius=0.05, default_team_size=7, goal_height=1.83,
+        penalty_spot_distance=7.32, goal_area_length=4.0, goal_area_width=7.3,
     ),
     "fifa": FieldSpec(
-        name="fifa", length=105.0, width=68.0, goal_width=7.32, goal_depth=2.0,
+        name="fifa", length=105.0, width=68.0, goal_width=7.32, goal_depth=1.6,
         penalty_length=16.5, penalty_width=40.32, center_circle_radius=9.15,
-        goal_post_radius=0.06, default_team_size=11, goal_height=2.44,
-        penalty_spot_distance=11.0,
+        goal_post_radius=0.05, default_team_size=11, goal_height=2.44,
+        penalty_spot_distance=11.0, goal_area_length=5.5, goal_area_width=18.32,
     ),
 }
 

@@ -11,9 +11,14 @@ Landmark sets (``kind``):
 
 - ``simspark`` (the classic 3D league's restricted vision): the 4 corner flags (z = 0) and the
   4 goal posts (the top of the post, z = the crossbar height), 8 in all.
-- ``mj`` (RCSSServerMJ 0.2.1's vision markers): the 4 corner L-junctions, the 2 T-junctions of
-  the halfway line, the 2 points where the halfway line crosses the centre circle, the 2 penalty
-  spots (when the field has them), and the 4 goal-post tops.
+- ``mj`` (RCSSServerMJ 0.2.1's vision markers, where its ``SoccerSimulation`` puts them): the 4
+  corner L-junctions, the 2 T-junctions of the halfway line, the 2 points where the halfway
+  line crosses the centre circle, the 2 penalty spots (when the field has them), the 4
+  goal-post tops, then (when the field has the areas) the goal area's 4 L-junctions (its front
+  corners) and 4 T-junctions (on the goal lines), and the same 8 of the penalty area. The
+  server places the area markers at y = +-(the area's full width), not at +-half of it where
+  the painted corners are (its ``soccer_sim.py`` takes ``*_area_dim[1]`` as the half width);
+  a robot localizes against what the server reports, so the table follows the server.
 
 Polar sightings follow the league: ``distance`` is the 3D distance from the camera, the
 horizontal angle (azimuth) is positive to the left of the camera's axis, the vertical angle
@@ -77,9 +82,59 @@ def landmarks(field: FieldSpec, kind: str = "simspark") -> Landmarks:
             d = hl - field.penalty_spot_distance
             rows += [("penalty_own", -d, 0.0, 0.0), ("penalty_their", d, 0.0, 0.0)]
     rows += posts
+    if kind == "mj":
+        for area, depth, across in (("goal_area", field.goal_area_length, field.goal_area_width),
+                                    ("penalty_area", field.penalty_length, field.penalty_width)):
+            if depth > 0 and across > 0:
+                x = hl - depth
+                rows += [(f"{area}_corner_own_left", -x, across, 0.0),
+                         (f"{area}_corner_own_right", -x, -across, 0.0),
+                         (f"{area}_corner_their_left", x, across, 0.0),
+                         (f"{area}_corner_their_right", x, -across, 0.0),
+                         (f"{area}_line_own_left", -hl, across, 0.0),
+                         (f"{area}_line_own_right", -hl, -across, 0.0),
+                         (f"{area}_line_their_left", hl, across, 0.0),
+                         (f"{area}_line_their_right", hl, -across, 0.0)]
     xyz = np.array([row[1:] for row in rows], dtype=np.float64)
     xyz.flags.writeable = False
     return Landmarks(tuple(row[0] for row in rows), xyz)
+
+
+def _mj_marks_left() -> dict[str, str]:
+    """RCSSServerMJ's vision marker name -> our ``mj`` landmark name, for the left team (whose
+    team frame is the world frame). Marker names: kind ``l`` L-junction, ``t`` T-junction,
+    ``x`` X-junction, ``p`` penalty spot, ``g`` goal post; then the end (``l``/``r``: x < 0 /
+    x > 0, ``c``: the halfway line) and ``u``/``l`` (y > 0 / y < 0); then the feature (``f``
+    field, ``c`` circle, ``p`` post, ``ga`` goal area, ``pa`` penalty area)."""
+    ends = {"l": "own", "r": "their"}
+    sides = {"u": "left", "l": "right"}
+    marks = {"t_cuf": "halfway_left", "t_clf": "halfway_right",
+             "x_cuc": "circle_left", "x_clc": "circle_right",
+             "p_lpm": "penalty_own", "p_rpm": "penalty_their"}
+    for end, own in ends.items():
+        for ud, side in sides.items():
+            marks[f"l_{end}{ud}f"] = f"corner_{own}_{side}"
+            marks[f"g_{end}{ud}p"] = f"post_{own}_{side}"
+            for tag, area in (("ga", "goal_area"), ("pa", "penalty_area")):
+                marks[f"l_{end}{ud}{tag}"] = f"{area}_corner_{own}_{side}"
+                marks[f"t_{end}{ud}{tag}"] = f"{area}_line_{own}_{side}"
+    return marks
+
+
+def _turned(mark: str) -> str:
+    """The marker at the world point turned by pi (left <-> right end, upper <-> lower)."""
+    kind, where = mark.split("_", 1)
+    end = {"l": "r", "r": "l", "c": "c"}[where[0]]
+    if where[1] in "ul":
+        return f"{kind}_{end}{'l' if where[1] == 'u' else 'u'}{where[2:]}"
+    return f"{kind}_{end}{where[1:]}"  # the penalty spots: p_<end>pm
+
+
+#: RCSSServerMJ's vision marker -> our ``mj`` landmark name, for the left and the right team
+#: (the right team's landmark k is the left's turned by pi in the world). Markers a field does
+#: not have are simply never reported.
+MJ_MARKS_LEFT: dict[str, str] = _mj_marks_left()
+MJ_MARKS_RIGHT: dict[str, str] = {_turned(m): name for m, name in MJ_MARKS_LEFT.items()}
 
 
 def field_lines(field: FieldSpec) -> NDArray[np.float64]:

@@ -73,6 +73,7 @@ class Player:
         self.channel = channel
         self.cycle_s = cycle_s
         self.schema = None
+        self._beam_slots: dict[int, NDArray[np.float64]] = {}  # by formation (held for life)
         self.reset()
 
     def reset(self) -> None:
@@ -142,6 +143,9 @@ class Player:
             if c.communicate and self.my_turn_to_talk(cycle):
                 say = self.team_report(wm, decision.own_vector)
                 self.said_vector = decision.own_vector.copy()
+        if situation(wm.play_mode) is Situation.BEAM:
+            decision = decision._replace(target=self.beam_slot(formation),
+                                         position_index=self.me)
         if wm.ball_known or situation(wm.play_mode) in (Situation.BEAM, Situation.OVER) \
                 or wm.fallen:
             request = self.decision.decide(wm, decision)
@@ -153,6 +157,18 @@ class Player:
         self.last_decision = decision
         self.last_request = request
         return request
+
+    def beam_slot(self, formation: Formation) -> NDArray[np.float64]:
+        """Where this agent is beamed before a kick-off: its own position (by uniform number)
+        of the kick-off ``formation`` with the ball on the centre spot. Every agent computes
+        the same slots without beliefs or votes, so no two are beamed to one spot (the voted
+        roles have not settled before the kick-off); once play starts the roles are assigned
+        from where they stand."""
+        slot = self._beam_slots.get(id(formation))
+        if slot is None:
+            slot = self._beam_slots[id(formation)] = \
+                formation.home_positions(np.zeros(2))[self.me].copy()
+        return slot.copy()
 
     def my_turn_to_talk(self, cycle: int) -> bool:
         """One teammate talks every ``TALK_PERIOD_CYCLES``, in uniform-number order."""

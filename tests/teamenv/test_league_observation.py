@@ -85,12 +85,9 @@ def test_sightings_sit_in_the_env_rows_and_agree_with_the_env_vision(name, team,
                            [("",) * 8] * 2)
     env = vision.as_dicts(frame)[0 if side == "left" else 1]
     assert (obs["landmarks"][:, 0] == env["landmarks"][:, 0]).all()
-    circle = [names.index("circle_left"), names.index("circle_right")]
     for k in np.flatnonzero(env["landmarks"][:, 0]):
         got, want = obs["landmarks"][k], env["landmarks"][k]
-        # the centre-circle marks: the server's circle is 5.5 m, our mj7v7 table's 4.5 m
-        tol = 1.5 if k in circle else 0.15
-        assert abs(got[1] - want[1]) < tol, names[k]
+        assert abs(got[1] - want[1]) < 0.15, names[k]
         assert abs(math.remainder(got[2] - want[2], 2 * math.pi)) < math.radians(2), names[k]
     assert obs["ball"][0] == 1 and abs(obs["ball"][1] - math.hypot(x, y)) < 0.5
 
