@@ -282,7 +282,7 @@ def fuzz(kind: Kind, count: int, seed: int, directory: Path, keep_examples: int 
 
 def _difference(original: bytes, corrupted: bytes, context: int = 12) -> str:
     """Where two byte strings first differ, as ``...before... -> ...after...``."""
-    i = next((k for k, (a, b) in enumerate(zip(original, corrupted)) if a != b),
+    i = next((k for k, (a, b) in enumerate(zip(original, corrupted, strict=False)) if a != b),
              min(len(original), len(corrupted)))
     lo = max(0, i - context)
     return (f"at byte {i}: {original[lo:i + context]!r} -> {corrupted[lo:i + context]!r}"

@@ -384,8 +384,6 @@ def load_replay(path: str | Path) -> Replay:
     if isinstance(fmt, bool) or fmt not in READABLE_FORMATS:
         raise ConfigError(f"{where}: format {value_repr(fmt if isinstance(meta, dict) else meta)}"
                           f", this teamenv reads formats {list(READABLE_FORMATS)}")
-    if fmt >= 3:
-        _check_checksum(where, arrays, meta)
     wanted = ["ball", "players", "play_mode", "score", "time_s"]
     if fmt >= 2:
         wanted += _FORMAT_2_ARRAYS
@@ -394,8 +392,10 @@ def load_replay(path: str | Path) -> Replay:
         raise ConfigError(f"{where}: format {fmt} but the array(s) {missing} are missing")
     if meta.get("extras"):
         wanted += [k for k in _EXTRA_ARRAYS if k in arrays]
+    _check_shapes(name, {k: arrays[k] for k in wanted})
+    if fmt >= 3:  # after the structure checks, whose messages say more about a hand-made file
+        _check_checksum(where, arrays, meta)
     arrays = {k: arrays[k] for k in wanted}
-    _check_shapes(name, arrays)
     team_size = meta.get("team_size")
     if team_size is not None and team_size != arrays["players"].shape[1] // 2:
         raise ConfigError(f"{where}: metadata says team_size {value_repr(team_size)} but "

@@ -50,8 +50,8 @@ import numpy as np
 
 from strategy.positioning.formation.model import Formation, FormationError, Role
 from teamenv.errors import value_repr
-from teamenv.input_files import read_text
 from teamenv.field import FieldSpec
+from teamenv.input_files import read_text
 
 AGENT2D_PITCH_M: tuple[float, float] = (105.0, 68.0)
 """Length and width (metres) of the pitch agent2d formation files are written for."""

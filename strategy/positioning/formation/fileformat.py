@@ -71,15 +71,15 @@ def formation_from_dict(
         if key not in data:
             raise FormationError(f"{src}: missing required key {key!r}")
     if data["format"] != FORMAT_NAME:
-        raise FormationError(f"{src}: format must be {FORMAT_NAME!r}, got {data['format']!r}")
+        raise FormationError(f"{src}: format must be {FORMAT_NAME!r}, got {value_repr(data['format'])}")
     if data["version"] != FORMAT_VERSION:
-        raise FormationError(f"{src}: version must be {FORMAT_VERSION}, got {data['version']!r}")
+        raise FormationError(f"{src}: version must be {FORMAT_VERSION}, got {value_repr(data['version'])}")
     name = data.get("name", Path(source).stem if source != "<dict>" else "formation")
     if not isinstance(name, str):
-        raise FormationError(f"{src}: name must be a string, got {name!r}")
+        raise FormationError(f"{src}: name must be a string, got {value_repr(name)}")
     description = data.get("description", "")
     if not isinstance(description, str):
-        raise FormationError(f"{src}: description must be a string, got {description!r}")
+        raise FormationError(f"{src}: description must be a string, got {value_repr(description)}")
     own_field = _parse_field(data["field"], src)
     roles = _parse_roles(data["roles"], src)
     if team_size is not None and len(roles) != team_size:
@@ -167,7 +167,7 @@ def _parse_field(value: Any, src: str) -> str | tuple[float, float]:
     if isinstance(value, str):
         if value not in FIELD_PRESETS:
             raise FormationError(
-                f"{src}: field: unknown preset {value!r}; choose one of {sorted(FIELD_PRESETS)} "
+                f"{src}: field: unknown preset {value_repr(value)}; choose one of {sorted(FIELD_PRESETS)} "
                 f"or give {{'length': ..., 'width': ...}} in metres"
             )
         return value
@@ -175,23 +175,23 @@ def _parse_field(value: Any, src: str) -> str | tuple[float, float]:
         extra = sorted(set(value) - {"length", "width"})
         if extra or "length" not in value or "width" not in value:
             raise FormationError(
-                f"{src}: field must be a preset name or {{'length': L, 'width': W}}, got {value!r}"
+                f"{src}: field must be a preset name or {{'length': L, 'width': W}}, got {value_repr(value)}"
             )
         length, width = value["length"], value["width"]
         for key, v in (("length", length), ("width", width)):
             if not _is_number(v) or not v > 0:
-                raise FormationError(f"{src}: field.{key} must be a positive number, got {v!r}")
+                raise FormationError(f"{src}: field.{key} must be a positive number, got {value_repr(v)}")
         return (float(length), float(width))
-    raise FormationError(f"{src}: field must be a preset name or an object, got {value!r}")
+    raise FormationError(f"{src}: field must be a preset name or an object, got {value_repr(value)}")
 
 
 def _parse_roles(value: Any, src: str) -> list[Role]:
     if not isinstance(value, list) or not value:
-        raise FormationError(f"{src}: roles must be a non-empty list, got {value!r}")
+        raise FormationError(f"{src}: roles must be a non-empty list, got {value_repr(value)}")
     roles = []
     for i, r in enumerate(value):
         if not isinstance(r, Mapping):
-            raise FormationError(f"{src}: roles[{i}] must be an object, got {r!r}")
+            raise FormationError(f"{src}: roles[{i}] must be an object, got {value_repr(r)}")
         extra = sorted(set(r) - {"name", "type"})
         if extra:
             raise FormationError(f"{src}: roles[{i}]: unknown key(s) {extra}; allowed: name, type")
@@ -204,11 +204,11 @@ def _parse_roles(value: Any, src: str) -> list[Role]:
 
 def _parse_samples(value: Any, n: int, src: str) -> tuple[list[list[float]], list[list[list[float]]]]:
     if not isinstance(value, list) or not value:
-        raise FormationError(f"{src}: samples must be a non-empty list, got {value!r}")
+        raise FormationError(f"{src}: samples must be a non-empty list, got {value_repr(value)}")
     balls, players = [], []
     for i, s in enumerate(value):
         if not isinstance(s, Mapping):
-            raise FormationError(f"{src}: samples[{i}] must be an object, got {s!r}")
+            raise FormationError(f"{src}: samples[{i}] must be an object, got {value_repr(s)}")
         extra = sorted(set(s) - {"ball", "players"})
         if extra:
             raise FormationError(
@@ -219,7 +219,7 @@ def _parse_samples(value: Any, n: int, src: str) -> tuple[list[list[float]], lis
         balls.append(_point(s["ball"], f"samples[{i}].ball", src))
         ps = s["players"]
         if not isinstance(ps, list):
-            raise FormationError(f"{src}: samples[{i}].players must be a list, got {ps!r}")
+            raise FormationError(f"{src}: samples[{i}].players must be a list, got {value_repr(ps)}")
         if len(ps) != n:
             raise FormationError(
                 f"{src}: samples[{i}].players has {len(ps)} positions, expected {n} (one per role)"
@@ -235,5 +235,5 @@ def _is_number(v: Any) -> bool:
 def _point(value: Any, where: str, src: str) -> list[float]:
     if (not isinstance(value, (list, tuple)) or len(value) != 2
             or not all(_is_number(v) for v in value)):
-        raise FormationError(f"{src}: {where} must be [x, y] (finite metres), got {value!r}")
+        raise FormationError(f"{src}: {where} must be [x, y] (finite metres), got {value_repr(value)}")
     return [float(value[0]), float(value[1])]

@@ -1,0 +1,44 @@
+"""The file loaders fed corrupted files (benchmarks/fuzz_loaders.py's seeded mutator, a few
+hundred per kind): every load ends in the loader's own error naming the file, or loads; a
+replay (checksummed) never loads other content. The 10^4-per-kind run is the benchmark's."""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+_PATH = Path(__file__).resolve().parents[1] / "benchmarks" / "fuzz_loaders.py"
+_spec = importlib.util.spec_from_file_location("fuzz_loaders", _PATH)
+fl = importlib.util.module_from_spec(_spec)
+sys.modules["fuzz_loaders"] = fl
+_spec.loader.exec_module(fl)
+
+FILES_PER_KIND = 150
+
+
+def test_mutator_is_seeded_and_always_changes_the_data():
+    data = bytes(range(256)) * 4
+    first = [fl.mutate(data, np.random.default_rng(5)) for _ in range(3)]
+    again = [fl.mutate(data, np.random.default_rng(5)) for _ in range(3)]
+    assert first == again
+    rng = np.random.default_rng(1)
+    outs = [fl.mutate(data, rng) for _ in range(200)]
+    assert all(out != data for out in outs)
+    assert len({len(out) for out in outs}) > 10  # truncations, splices, deletions
+
+
+@pytest.mark.parametrize("kind_name", sorted(fl.kinds()))
+def test_corrupted_files_end_in_the_loaders_own_errors(tmp_path, kind_name):
+    kind = fl.kinds()[kind_name]
+    tally = fl.fuzz(kind, FILES_PER_KIND, seed=2024, directory=tmp_path, keep_examples=3)
+    counts = tally.counts
+    assert counts["foreign"] == 0, tally.examples["foreign"]
+    assert counts["unnamed"] == 0, tally.examples["unnamed"]
+    if kind.changed_fails:
+        assert counts["changed"] == 0, tally.examples["changed"]
+    assert counts["error"] > FILES_PER_KIND // 2
+    assert sum(counts.values()) == FILES_PER_KIND
