@@ -4,6 +4,14 @@
 from __future__ import annotations
 
 import argparse
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+from teamenv.errors import MissingExtraError
+
+#: The humanoid extra's top-level modules: a league command missing one of them is a missing
+#: extra (one line naming it), not a traceback.
+HUMANOID_MODULES = ("rcsssmj", "mujoco", "jax", "brax")
 
 SERVER_HELP = ("real: rcssservermj as a child process over TCP (default); local: the same "
                "simulation, referee and protocol code of rcsssmj in this process, no sockets "
@@ -53,7 +61,35 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     t.set_defaults(func=_run_tournament)
 
 
+def _missing_module(exc: BaseException) -> str | None:
+    """The name of the module whose import failed in ``exc`` or the errors it came from."""
+    seen: set[int] = set()
+    while exc is not None and id(exc) not in seen:
+        seen.add(id(exc))
+        if isinstance(exc, ImportError) and exc.name:
+            return exc.name
+        exc = exc.__cause__ or exc.__context__
+    return None
+
+
+@contextmanager
+def _humanoid_extra(feature: str) -> Iterator[None]:
+    """Turn an ImportError of one of ``HUMANOID_MODULES`` into a MissingExtraError."""
+    try:
+        yield
+    except ImportError as exc:
+        missing = _missing_module(exc)
+        if missing is None or missing.split(".")[0] not in HUMANOID_MODULES:
+            raise
+        raise MissingExtraError("humanoid", missing.split(".")[0], feature) from exc
+
+
 def _run(args: argparse.Namespace) -> int:
+    with _humanoid_extra(f"league-match --server {args.server}"):
+        return _play(args)
+
+
+def _play(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
     from .match import (
@@ -87,6 +123,11 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _run_tournament(args: argparse.Namespace) -> int:
+    with _humanoid_extra(f"league-tournament --server {args.server}"):
+        return _play_tournament(args)
+
+
+def _play_tournament(args: argparse.Namespace) -> int:
     from .match import LeagueMatchOptions
     from .tournament import run_league_tournament
 
