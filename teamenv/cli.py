@@ -1,13 +1,15 @@
-"""The ``teamenv`` command line: play a match, render a replay, list teams (and tournaments)."""
+"""The teamenv command line: matches, replays, statistics, the viewer, tournaments, league
+matches and parameter search."""
 
 from __future__ import annotations
 
 import argparse
 import json
 import sys
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Sequence
 
+from teamenv import __version__
 from teamenv.errors import TeamEnvError
 from teamenv.viewer.cli import add_parser as add_view_parser
 
@@ -16,11 +18,12 @@ def _add_match(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("match", help="play one match between two teams and print the result")
     p.add_argument("left", help="left team: a registered name (see `teamenv teams`) or module:Class")
     p.add_argument("right", help="right team")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=int, default=0,
+                   help="match seed: the same seed plays the same match (default 0)")
     p.add_argument("--field", default="simspark", help="simspark | mj7v7 | fifa")
     p.add_argument("--team-size", type=int, default=None, help="players per side (1-11)")
     p.add_argument("--half-time", type=float, default=300.0, help="length of a half (s)")
-    p.add_argument("--halves", type=int, default=2)
+    p.add_argument("--halves", type=int, default=2, help="halves per match: 1 or 2 (default 2)")
     p.add_argument("--channel", default="simspark", help="say channel: simspark | mj")
     p.add_argument("--observation", default="state", choices=("state", "vision"),
                    help="observation mode of the teams: true state or the league's vision")
@@ -65,10 +68,14 @@ def _run_match(args: argparse.Namespace) -> int:
 
 def _add_render(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("render", help="render a replay file to a GIF/MP4 (needs [render])")
-    p.add_argument("replay", type=Path)
-    p.add_argument("out", type=Path)
-    p.add_argument("--every", type=int, default=10)
-    p.add_argument("--fps", type=int, default=10)
+    p.add_argument("replay", type=Path, help="a replay (.npz) written by `teamenv match --replay`")
+    p.add_argument("out", type=Path, help="the GIF (.gif) or video (.mp4, needs imageio's "
+                   "ffmpeg plugin) to write")
+    p.add_argument("--every", type=int, default=10,
+                   help="draw every k-th cycle (default 10: 5 frames per game second)")
+    p.add_argument("--fps", type=int, default=10,
+                   help="frames per second of the output (default 10; a GIF stores each "
+                   "frame's delay in whole centiseconds)")
     p.set_defaults(func=lambda a: print(
         __import__("teamenv.render", fromlist=["x"]).render_replay_gif(
             a.replay, a.out, fps=a.fps, every=a.every)) or 0)
@@ -98,8 +105,14 @@ def _json_dict(text: str, flag: str) -> dict:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="teamenv", description=__doc__)
-    sub = parser.add_subparsers(dest="command", required=True)
+    parser = argparse.ArgumentParser(prog="teamenv", description=__doc__,
+                                     usage="teamenv [-h] [--version] COMMAND ...",
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--version", action="version", version=f"teamenv {__version__}",
+                        help="print the version of teamenv and exit")
+    # the commands are listed in the description (one line each); not twice
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND", prog="teamenv",
+                                help=argparse.SUPPRESS)
     _add_match(sub)
     _add_render(sub)
     _add_teams(sub)
@@ -115,7 +128,17 @@ def build_parser() -> argparse.ArgumentParser:
     from teamenv.optimize.cli import add_parser as add_optimize_command
 
     add_optimize_command(sub)
+    parser.description = _describe_commands(sub)
     return parser
+
+
+def _describe_commands(sub: argparse._SubParsersAction) -> str:
+    """The module docstring and one line per command (from the commands' own help)."""
+    helps = {action.dest: action.help for action in sub._choices_actions}
+    width = max(len(name) for name in sub.choices)
+    lines = [f"  {name:{width}s}  {helps.get(name) or ''}".rstrip() for name in sub.choices]
+    return (__doc__.strip() + "\n\ncommands (`teamenv COMMAND --help` for each one's "
+            "arguments):\n" + "\n".join(lines))
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -22,7 +22,8 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:
     report.add_argument("-o", "--out", type=Path, required=True, help="HTML file to write")
     report.add_argument("--name", default=None, help="tournament in the database "
                         "(default: the only one)")
-    report.add_argument("--xg-model", type=Path, default=None)
+    report.add_argument("--xg-model", type=Path, default=None,
+                        help="an xG model JSON (default: the shipped one)")
     report.set_defaults(func=_report)
 
 

@@ -28,7 +28,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--team-size", type=int, default=7, help="players per side, 1-7 (default 7)")
     p.add_argument("--seconds", type=float, default=30.0, help="game time to play (s)")
     p.add_argument("--seed", type=int, default=0, help="seed stored with the match")
-    p.add_argument("--kick-off", default="Left", choices=("Left", "Right"))
+    p.add_argument("--kick-off", default="Left", choices=("Left", "Right"),
+                   help="the side that kicks off (default Left)")
     p.add_argument("--db", default=None, help="SQLite results database to record the match in")
     p.add_argument("--name", default="league", help="tournament name in --db (default league): "
                    "the match is the one match of this new tournament (a name already holding "

@@ -53,15 +53,18 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--field", default="simspark", help="simspark | mj7v7 | fifa")
     p.add_argument("--team-size", type=int, default=None, help="players per side (1-11)")
     p.add_argument("--half-time", type=float, default=300.0, help="length of a half (s)")
-    p.add_argument("--halves", type=int, default=2)
-    p.add_argument("--observation", default="state", choices=("state", "vision"))
+    p.add_argument("--halves", type=int, default=2, help="halves per match: 1 or 2 (default 2)")
+    p.add_argument("--observation", default="state", choices=("state", "vision"),
+                   help="observation mode of the teams (default state)")
     p.add_argument("--vision", default=None, help="vision profile: simspark | mj")
     p.add_argument("--channel", default="simspark", help="say channel: simspark | mj")
     p.add_argument("--cycle-budget", type=float, default=None,
                    help="a team whose act() takes longer (s) in any cycle forfeits")
     p.add_argument("--stall-timeout", type=float, default=10.0,
                    help="a cycle running longer than this (s) forfeits the acting team")
-    p.add_argument("--backend", choices=("process", "ray", "serial"), default="process")
+    p.add_argument("--backend", choices=("process", "ray", "serial"), default="process",
+                   help="process: local worker pool (default); ray: Ray tasks; serial: "
+                   "every match in this process")
     p.add_argument("-j", "--jobs", type=int, default=None,
                    help="worker processes (default: all cores) / local Ray CPUs")
     p.add_argument("--ray-address", default=None, help="Ray cluster address (e.g. auto)")

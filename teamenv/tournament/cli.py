@@ -24,7 +24,9 @@ def add_tournament_commands(subparsers: argparse._SubParsersAction) -> None:
                      "overrides name:key=value,key2=value2 (a gauntlet's opponents)")
     run.add_argument("--db", type=Path, required=True, help="results database (SQLite file)")
     run.add_argument("--name", default=None, help=f"tournament name (default {DEFAULT_NAME!r})")
-    run.add_argument("--format", choices=("round-robin", "gauntlet"), default="round-robin")
+    run.add_argument("--format", choices=("round-robin", "gauntlet"), default="round-robin",
+                     help="round-robin: every team meets every other (default); gauntlet: "
+                     "--challenger meets each of the teams")
     run.add_argument("--challenger", default=None, help="the gauntlet's challenger spec")
     run.add_argument("--games", type=int, default=2, help="seeded rounds per pairing")
     run.add_argument("--no-swap", action="store_true", help="do not replay each round with "
@@ -33,7 +35,7 @@ def add_tournament_commands(subparsers: argparse._SubParsersAction) -> None:
     run.add_argument("--field", default="simspark", help="simspark | mj7v7 | fifa")
     run.add_argument("--team-size", type=int, default=None, help="players per side (1-11)")
     run.add_argument("--half-time", type=float, default=300.0, help="length of a half (s)")
-    run.add_argument("--halves", type=int, default=2)
+    run.add_argument("--halves", type=int, default=2, help="halves per match: 1 or 2 (default 2)")
     run.add_argument("--observation", default="state", choices=("state", "vision"),
                      help="observation mode of the teams")
     run.add_argument("--vision", default=None, help="vision profile with --observation vision: "
@@ -66,26 +68,27 @@ def add_tournament_commands(subparsers: argparse._SubParsersAction) -> None:
     run.set_defaults(func=_run)
 
     table = sub.add_parser("table", help="league table and ratings of a stored tournament")
-    table.add_argument("--db", type=Path, required=True)
+    table.add_argument("--db", type=Path, required=True, help="results database (SQLite file)")
     table.add_argument("--name", default=None, help="tournament (default: the only one)")
     _add_output_args(table)
     table.set_defaults(func=_table)
 
     matches = sub.add_parser("matches", help="list the stored matches (ids for replay)")
-    matches.add_argument("--db", type=Path, required=True)
-    matches.add_argument("--name", default=None)
+    matches.add_argument("--db", type=Path, required=True, help="results database (SQLite file)")
+    matches.add_argument("--name", default=None, help="tournament (default: the only one)")
     matches.set_defaults(func=_matches)
 
     lst = sub.add_parser("list", help="list the tournaments in a database")
-    lst.add_argument("--db", type=Path, required=True)
+    lst.add_argument("--db", type=Path, required=True, help="results database (SQLite file)")
     lst.set_defaults(func=_list)
 
     rep = sub.add_parser("replay", help="replay a stored match to a GIF/MP4 (needs [render])")
     rep.add_argument("match_id", type=int, help="match id (see `tournament matches`)")
-    rep.add_argument("--db", type=Path, required=True)
+    rep.add_argument("--db", type=Path, required=True, help="results database (SQLite file)")
     rep.add_argument("--out", type=Path, default=None, help="GIF/MP4 to write")
     rep.add_argument("--replay-out", type=Path, default=None, help="also keep the .npz here")
-    rep.add_argument("--fps", type=int, default=10)
+    rep.add_argument("--fps", type=int, default=10,
+                     help="frames per second of the GIF/MP4 (default 10)")
     rep.add_argument("--every", type=int, default=5, help="render every k-th cycle")
     rep.add_argument("--no-verify", action="store_true",
                      help="do not check the replayed score against the database")
