@@ -1,8 +1,9 @@
 """Feed the file loaders corrupted files and count how each one ends.
 
 Kinds: a replay (``teamenv.replay.load_replay``, .npz), a locomotion profile
-(``locomotion.load_profile``, JSON), a formation file (``read_formation``, JSON) and agent2d
-formation files in their JSON, CSV and legacy (v3) forms (``import_agent2d``). Each corrupted
+(``locomotion.load_profile``, JSON), a formation file (``read_formation``, JSON), agent2d
+formation files in their JSON, CSV and legacy (v3) forms (``import_agent2d``) and an MLP policy
+file (``teamenv.policy_team.load_policy``, .npz). Each corrupted
 copy comes from a seeded mutator: bit flips, overwritten bytes, truncation, spliced junk
 (random bytes inserted or written over a span), a deleted span, a duplicated span.
 
@@ -178,6 +179,16 @@ def _agent2d_text(form: str) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _make_policy(directory: Path) -> Path:
+    from teamenv.policy_team import save_mlp_policy
+
+    rng = np.random.default_rng(0)
+    layers = [(rng.normal(size=(12, 16)), rng.normal(size=16)),
+              (rng.normal(size=(16, 9)), rng.normal(size=9))]
+    return save_mlp_policy(directory / "original.npz", layers, obs_mean=np.zeros(12),
+                           obs_std=np.ones(12), kick_gate_m=0.3)
+
+
 def _agent2d_maker(form: str) -> Callable[[Path], Path]:
     def make(directory: Path) -> Path:
         path = directory / f"original-{form}.conf"
@@ -193,6 +204,7 @@ def kinds() -> dict[str, Kind]:
     from strategy.positioning.formation import FormationError, import_agent2d
     from strategy.positioning.formation.fileformat import read_formation
     from teamenv.errors import TeamEnvError
+    from teamenv.policy_team import load_policy
     from teamenv.replay import load_replay
 
     out = {
@@ -205,6 +217,7 @@ def kinds() -> dict[str, Kind]:
         out[f"agent2d-{form}"] = Kind(f"agent2d-{form}", _agent2d_maker(form),
                                       lambda p: import_agent2d(Path(p)), (FormationError,),
                                       False)
+    out["policy"] = Kind("policy", _make_policy, load_policy, (TeamEnvError,), False)
     return out
 
 
@@ -230,6 +243,8 @@ def same(a: Any, b: Any) -> bool:
                 and same(a.sample_positions, b.sample_positions))
     if isinstance(a, float) and isinstance(b, float) and a != a and b != b:
         return True
+    if hasattr(a, "__dict__") and not isinstance(a, type):  # e.g. an MLPPolicy: its attributes
+        return same(vars(a), vars(b))
     return bool(a == b)
 
 
@@ -303,7 +318,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seed", type=int, default=0, help="the mutator's seed (default 0)")
     parser.add_argument("--kinds", default=None,
                         help="comma-separated kinds (default all: replay, profile, formation, "
-                             "agent2d-json, agent2d-csv, agent2d-v3)")
+                             "agent2d-json, agent2d-csv, agent2d-v3, policy)")
     parser.add_argument("--examples", type=int, default=2,
                         help="example messages printed per outcome (default 2)")
     parser.add_argument("--json", type=Path, default=None, help="also write the counts here")

@@ -82,8 +82,10 @@ def read_npz(path: str | Path, describe: str,
     except _Refused as exc:
         raise error(f"{describe}: not a readable {what}: {exc}") from None
     except _DAMAGE as exc:
+        detail = f"{type(exc).__name__}: {exc}" if str(exc) else f"{type(exc).__name__}: " \
+            "the data ends early" if isinstance(exc, EOFError) else type(exc).__name__
         raise error(f"{describe}: not a readable {what}: the .npz archive is damaged "
-                    f"({type(exc).__name__}: {exc})") from exc
+                    f"({detail})") from exc
     return arrays
 
 

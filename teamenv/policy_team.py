@@ -255,7 +255,16 @@ def load_policy(path: str | Path) -> MLPPolicy:
         raise PolicyFileError(f"policy file {str(path)!r} not found")
     data = read_npz(path, f"policy file {str(path)!r}", PolicyFileError,
                     what=f"{MLP_FORMAT} policy file")
+    try:
+        return _policy_from_arrays(data, path)
+    except PolicyFileError:
+        raise
+    except (TypeError, ValueError, OverflowError, IndexError) as exc:  # an entry of odd shape
+        raise PolicyFileError(f"policy file {str(path)!r}: malformed entry ({exc})") from None
 
+
+def _policy_from_arrays(data: Mapping[str, np.ndarray], path: Path) -> MLPPolicy:
+    """The policy a file's arrays describe (``load_policy``)."""
     def text(key: str, default: str | None = None) -> str:
         if key not in data:
             if default is None:

@@ -17,7 +17,7 @@ fl = importlib.util.module_from_spec(_spec)
 sys.modules["fuzz_loaders"] = fl
 _spec.loader.exec_module(fl)
 
-FILES_PER_KIND = 150
+FILES_PER_KIND = 300
 
 
 def test_mutator_is_seeded_and_always_changes_the_data():
