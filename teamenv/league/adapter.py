@@ -12,11 +12,24 @@ Requests: ``walk`` (vx, vy m/s, turn rad/s, body frame) goes through a Locomotio
 to motor effectors; ``beam`` (x, y, theta rad, team frame, own half) is sent as is (the server
 mirrors the right team); ``say`` is a text of the ``mj`` channel profile (padded base64 of at
 most 10 bytes, exactly what our teams produce with ``channel="mj"``), checked by that profile
-and sent as its bytes. **Kicks:** the T1 under our walker has no kick motion; a kick request
-is turned into a walk through the ball (towards it at the walk's top speed, along the kick
-direction), which is how the ball is played on the server. With ``idle`` (the match sends
-every joint held at 0), a zero walk stands still instead of stepping in place: our walker
-stepping on the spot falls within ~0.5 s on the server, the held stance stands.
+and sent as its bytes. With ``idle`` (the match sends every joint held at 0), a zero walk
+stands still instead of stepping in place: our walker stepping on the spot falls within
+~0.5 s on the server, the held stance stands.
+
+**Kicks** (``teamenv.league.kick``): the encoder tracks the ball from the agent's own vision
+(``BallTracker``). A kick request (power 0-1, direction rad, body frame) walks the robot into
+the kick spot facing the direction (``approach_command``) and, once there with a recent
+sighting (``in_kick_spot``, ``KICK_SIGHTING_MAX_AGE_S``), starts the kick motion;
+the motion plays to its end whatever is asked meanwhile (walk and kick requests are ignored,
+a beam cancels it), then the walk starts afresh (``controller.reset()``) from the pose the
+kick left. Before the ball was ever seen a kick request walks along the kick direction.
+``kick=None`` turns kicks off (a kick request is then a walk through the ball, the old
+behaviour, kept for comparison).
+
+**Getting up:** ``get_up`` (by default ``teamenv.league.getup.GetUpMotion``; any motion with
+``start(perception)``/``step(perception)``/``done``; None: none) is started when the robot is
+down (``observation.torso_down``) and played to its end before anything else (a beam cancels
+it); if the robot is still down then, it starts again.
 """
 
 from __future__ import annotations
@@ -31,6 +44,8 @@ from teamenv.landmarks import MJ_MARKS_LEFT, MJ_MARKS_RIGHT
 from . import effectors
 from .controller import LocomotionController
 from .errors import LeagueError
+from .getup import GetUpMotion
+from .kick import BallTracker, KickMotion, approach_command, in_kick_spot
 from .perception import Perception, Polar
 
 #: server mark -> our landmark name, for the left and the right team (teamenv.landmarks)
@@ -93,38 +108,83 @@ class Request:
     say: str | None = None
 
 
-#: walk speed used to walk through the ball for a kick (m/s; the walker's envelope is ~0.5)
+#: walk speed of a kick as a walk through the ball (m/s; ``kick=None``, or the ball never seen)
 KICK_WALK_SPEED = 0.4
+#: a sighting older than this (s) does not start a kick (the ball may have moved); the ball
+#: at the kick spot is below the level camera's view, so the last sighting is from ~0.55 m
+KICK_SIGHTING_MAX_AGE_S = 3.0
 
 
 class RequestEncoder:
-    """Requests -> one cycle's effector message for one agent, through its controller."""
+    """Requests -> one cycle's effector message for one agent, through its controller, its
+    kick motion and (optionally) its get-up motion."""
 
     def __init__(self, controller: LocomotionController, who: str, channel: str = "mj",
-                 stand_when_idle: bool = True) -> None:
+                 stand_when_idle: bool = True, kick: KickMotion | None | str = "default",
+                 get_up: GetUpMotion | None | str = "default") -> None:
         self.controller = controller
         self.who = who
         #: a zero walk without a kick sends the controller's standing targets (which resets
         #: its walk, so a later walk starts afresh) instead of walking on the spot
         self.stand_when_idle = stand_when_idle
+        #: the kick motion (None: kicks are walks through the ball)
+        self.kick = KickMotion() if kick == "default" else kick
+        #: the get-up motion run when the robot is down (None: lying robots get the request)
+        self.get_up = GetUpMotion() if get_up == "default" else get_up
+        self.ball = BallTracker()
+        self._motion = None   # the kick or get-up now playing
         self.profile = get_profile(channel)
         if not self.profile.base64_payload:
-            raise LeagueError(f"{who}: the league server needs the 'mj' channel, not {channel!r}")
+            raise LeagueError(f"{self.who}: the league server needs the 'mj' channel, not {channel!r}")
+
+    @property
+    def kicking(self) -> bool:
+        return self._motion is not None and self._motion is self.kick
+
+    def _walk_through(self, direction: float) -> tuple[float, float, float]:
+        return (KICK_WALK_SPEED * math.cos(direction), 0.0, direction / 0.5)
+
+    def _body(self, request: Request, perception: Perception) -> str:
+        """This cycle's motor message."""
+        from .observation import is_fallen  # here: observation imports this module
+
+        if self._motion is not None:
+            message = self._motion.step(perception)
+            if self._motion.done:
+                self._motion = None
+                self.controller.reset()   # the walk starts afresh from the motion's end pose
+            return message
+        if self.get_up is not None and is_fallen(perception):
+            self.get_up.start(perception)
+            self._motion = self.get_up
+            return self._body(request, perception)
+        walk = request.walk
+        if request.kick is not None:
+            power, direction = request.kick
+            ball = self.ball.body
+            if self.kick is None or ball is None:
+                walk = self._walk_through(direction)
+            elif (in_kick_spot(ball, direction, self.kick.params)
+                  and self.ball.age_s <= KICK_SIGHTING_MAX_AGE_S):
+                self.kick.start(perception, direction, min(max(power, 0.0), 1.0), ball=ball)
+                self._motion = self.kick
+                return self._body(request, perception)
+            else:
+                walk = approach_command(ball, direction, self.kick.params)
+        if self.stand_when_idle and request.kick is None and not any(walk):
+            return self.controller.stand(perception)
+        return self.controller.step(walk, perception)
 
     def encode(self, request: Request, perception: Perception) -> str:
         parts: list[str] = []
-        walk = request.walk
-        if request.kick is not None:
-            _, direction = request.kick
-            walk = (KICK_WALK_SPEED * math.cos(direction), 0.0, direction / 0.5)
+        self.ball.update(perception)
         if request.beam is not None:
             # every motor is commanded every cycle (an uncommanded one lets rcsssmj zero
             # every robot's controls, see docs/league.md): a beam comes with the stance
+            self._motion = None
             parts += [effectors.beam(*request.beam), self.controller.stand(perception)]
-        elif self.stand_when_idle and request.kick is None and not any(walk):
-            parts.append(self.controller.stand(perception))
         else:
-            parts.append(self.controller.step(walk, perception))
+            parts.append(self._body(request, perception))
         if request.say:
             reason = self.profile.check_message(request.say)
             if reason is not None:

@@ -1,0 +1,113 @@
+"""The T1's kick on the league server's physics, from a walking approach: many trials on seeds
+the tuning never saw, and the numbers the kick's targets are stated in.
+
+Each trial (``teamenv.league.kick_trial.kick_trial`` on ``LocalServer``) draws from its seed
+(``numpy.random.default_rng(seed)``): the robot's start 1-2.5 m from the ball, on a bearing
+within +-70 deg of straight behind it, facing the ball +-60 deg; and the kick's target heading,
+within +-45 deg of the +x axis (world). The robot stands 0.6 s, walks to the kick spot with
+``approach_command`` under the chosen walk controller (``in_kick_spot``: ball sighted, spot
+within a few cm, heading within ~7 deg), kicks, and stands while the ball rolls; the ball's
+travel and heading come from the simulation's ground truth when it has stopped (at most
+``--settle`` s). The tuning (``benchmarks/league_kick_tune.py``) kicked only from standing at
+the spot, with no seed: every seed here is held out.
+
+Printed: trials, how many kicked (reached the spot within 12 s), mean / median ball travel
+(m), direction error mean and s.d. (deg), upright after the kick (%), falls during it, kick
+duration, approach time.
+
+    nice -n 10 python benchmarks/league_kick_trials.py --seeds 1000:1050 --out a.json
+    nice -n 10 python benchmarks/league_kick_trials.py --seeds 1050:1100 --out b.json
+    python benchmarks/league_kick_trials.py --merge a.json b.json     # the 100 together
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import time
+
+import numpy as np
+
+from teamenv.league.kick_trial import BALL, kick_trial
+
+
+def trial_setup(seed: int) -> tuple[tuple[float, float, float], float]:
+    """(start pose (world x, y, yaw), target heading) of trial ``seed``."""
+    rng = np.random.default_rng(seed)
+    dist = rng.uniform(1.0, 2.5)
+    bearing = math.pi + rng.uniform(-1.22, 1.22)       # from the ball, behind it (-x side)
+    x, y = BALL[0] + dist * math.cos(bearing), BALL[1] + dist * math.sin(bearing)
+    facing = math.atan2(BALL[1] - y, BALL[0] - x) + rng.uniform(-1.05, 1.05)
+    target = rng.uniform(-0.785, 0.785)
+    return (x, y, facing), target
+
+
+def make_walker(name: str):
+    if name == "walker":
+        from teamenv.league.controller import WalkerController
+
+        return WalkerController()
+    from teamenv.league.network_walk import NetworkWalkController
+
+    return NetworkWalkController()
+
+
+def run(seeds: range, walker: str, settle: float) -> list[dict]:
+    rows = []
+    for seed in seeds:
+        start, target = trial_setup(seed)
+        t0 = time.perf_counter()
+        r = kick_trial(start, target, walker=make_walker(walker), settle_s=settle, seed=seed)
+        rows.append({"seed": seed, "kicked": r.kicked, "travel": round(r.travel, 3),
+                     "error_deg": round(math.degrees(r.error), 2), "upright": r.upright,
+                     "fell_during": r.fell_during, "kick_s": round(r.kick_s, 2),
+                     "approach_s": round(r.approach_s, 2), "foot": r.foot,
+                     "wall_s": round(time.perf_counter() - t0, 1)})
+        print(json.dumps(rows[-1]), flush=True)
+    return rows
+
+
+def summary(rows: list[dict]) -> dict:
+    kicked = [r for r in rows if r["kicked"]]
+    travel = np.array([r["travel"] for r in kicked])
+    err = np.array([r["error_deg"] for r in kicked])
+    return {
+        "trials": len(rows), "kicked": len(kicked),
+        "travel_mean_m": round(float(travel.mean()), 2) if kicked else None,
+        "travel_median_m": round(float(np.median(travel)), 2) if kicked else None,
+        "error_mean_deg": round(float(err.mean()), 1) if kicked else None,
+        "error_sd_deg": round(float(err.std(ddof=1)), 1) if len(kicked) > 1 else None,
+        "upright_after_pct": round(100.0 * sum(r["upright"] for r in kicked) / len(kicked), 1)
+        if kicked else None,
+        "fell_during": sum(r["fell_during"] for r in kicked),
+        "kick_s_max": max(r["kick_s"] for r in kicked) if kicked else None,
+        "approach_s_mean": round(float(np.mean([r["approach_s"] for r in kicked])), 2)
+        if kicked else None,
+    }
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--seeds", default="1000:1100", help="first:last (last excluded)")
+    ap.add_argument("--walker", choices=("walker", "network"), default="walker",
+                    help="the approach walk: our WalkerController or the reference network")
+    ap.add_argument("--settle", type=float, default=6.0, help="seconds watched after a kick")
+    ap.add_argument("--out", default=None, help="write the rows and the summary (JSON) here")
+    ap.add_argument("--merge", nargs="+", default=None, help="summarise these --out files")
+    args = ap.parse_args()
+    if args.merge:
+        rows = [r for path in args.merge for r in json.load(open(path, encoding="utf-8"))["rows"]]
+    else:
+        first, last = (int(v) for v in args.seeds.split(":"))
+        rows = run(range(first, last), args.walker, args.settle)
+    result = summary(rows)
+    print(json.dumps(result))
+    if args.out:
+        with open(args.out, "w", encoding="utf-8") as fh:
+            json.dump({"walker": args.walker, "summary": result, "rows": rows}, fh, indent=1)
+
+
+if __name__ == "__main__":
+    main()
