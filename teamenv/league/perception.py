@@ -153,6 +153,10 @@ def _polar(expr: SExp, what: str) -> Polar:
     return Polar(d, math.radians(az), math.radians(el))
 
 
+_RAD = math.pi / 180.0
+_isfinite = math.isfinite
+
+
 # -- perceptors ------------------------------------------------------------------------------
 def _time(p: Perception, e: list[SExp]) -> None:
     if len(e) != 2:
@@ -208,6 +212,21 @@ def _touch(p: Perception, e: list[SExp]) -> None:
 
 
 def _hinge_joint(p: Perception, e: list[SExp]) -> None:
+    # the common, well-formed case at once (23 joints a message); anything else goes through
+    # the checks below, which name what is wrong
+    if len(e) == 4:
+        n, ax, vx = e[1], e[2], e[3]
+        if (type(n) is list and len(n) == 2 and n[0] == "n" and type(n[1]) is str
+                and type(ax) is list and len(ax) == 2 and ax[0] == "ax" and type(ax[1]) is str
+                and type(vx) is list and len(vx) == 2 and vx[0] == "vx" and type(vx[1]) is str):
+            try:
+                a, v = float(ax[1]), float(vx[1])
+            except ValueError:
+                pass
+            else:
+                if _isfinite(a) and _isfinite(v):
+                    p.joints[n[1]] = JointState(a * _RAD, v * _RAD)
+                    return
     if len(e) != 4:
         raise ProtocolError(f"perceptor HJ: expected (n NAME)(ax A)(vx V), got {e!r}")
     (name,) = _tagged(e[1], "n", 1, "perceptor HJ")
