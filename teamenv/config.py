@@ -90,6 +90,16 @@ class PerceptionConfig:
         lines: report the field lines (clipped to the horizontal cone).
         occlusion: a sighting is hidden when a nearer player's disc covers its azimuth.
         gyro_sigma_rad: noise of the gyro (the heading change of the cycle, rad).
+        missed_rate: chance that a sighting that would be reported is lost (a detector's
+            false negative), each sighting of each update on its own.
+        misclassified_rate: chance that a seen landmark or ball is reported under another
+            world object's name (uniform over the other landmarks and the ball): its polar
+            values land in that object's row.
+        false_rate, false_max: each update draws ``false_max`` chances of ``false_rate`` each
+            for a false detection: a world object's name (uniform over the landmarks and the
+            ball) at a uniform azimuth and elevation inside the cone and a uniform distance
+            in ``false_distance_m``.
+        false_distance_m: (low, high) distance range of false detections, metres.
     """
 
     update_period_cycles: int = 3
@@ -106,6 +116,11 @@ class PerceptionConfig:
     lines: bool = True
     occlusion: bool = False
     gyro_sigma_rad: float = 0.002
+    missed_rate: float = 0.0
+    misclassified_rate: float = 0.0
+    false_rate: float = 0.0
+    false_max: int = 5
+    false_distance_m: tuple[float, float] = (0.5, 15.0)
 
     def __post_init__(self) -> None:
         period = self.update_period_cycles
@@ -131,12 +146,34 @@ class PerceptionConfig:
             value = getattr(self, name)
             if not isinstance(value, bool):
                 raise ConfigError(f"perception.{name}: must be True or False, got {value!r}")
+        for name in ("missed_rate", "misclassified_rate", "false_rate"):
+            value = getattr(self, name)
+            if not (_is_number(value) and 0.0 <= value <= 1.0):
+                raise ConfigError(f"perception.{name}: must be a probability in [0, 1], got "
+                                  f"{value!r}")
+        fmax = self.false_max
+        if isinstance(fmax, bool) or not isinstance(fmax, int) or not 0 <= fmax <= 100:
+            raise ConfigError(f"perception.false_max: must be an int in 0..100, got {fmax!r}")
+        span = self.false_distance_m
+        if isinstance(span, list):
+            span = tuple(span)
+            object.__setattr__(self, "false_distance_m", span)
+        if not (isinstance(span, (tuple, list)) and len(span) == 2
+                and all(_is_number(v) for v in span) and 0.0 <= span[0] <= span[1]):
+            raise ConfigError(f"perception.false_distance_m: must be (low, high) metres with "
+                              f"0 <= low <= high, got {span!r}")
 
     @property
     def noisy(self) -> bool:
         """True when any sighting noise or calibration error is on."""
         return (self.distance_sigma_rel > 0 or self.azimuth_sigma_deg > 0 or
                 self.elevation_sigma_deg > 0 or self.calibration_error_m > 0)
+
+    @property
+    def detection_errors(self) -> bool:
+        """True when sightings can be missed, misclassified or made up."""
+        return (self.missed_rate > 0 or self.misclassified_rate > 0 or
+                (self.false_rate > 0 and self.false_max > 0))
 
 
 def _is_number(value: Any) -> bool:
@@ -195,12 +232,23 @@ def _section_name(cls: type) -> str:
 #: up to 0.005 m per axis; flags, goal posts and lines; NAO camera height 0.5 m, hand-entered).
 #: ``mj``: RCSSServerMJ 0.2.1 (every 2nd cycle, ±60° both ways, no noise, markers only, values
 #: truncated to 2 decimals; T1 camera height 1.1 m, hand-entered).
+#: ``mj_noisy``: ``mj`` with the detection model of the server's next vision
+#: (``OfficialVisionGenerator`` in a public RCSSServerMJ fork's ``vision_generator.py``):
+#: distance noise sigma 1 % of the distance, azimuth and elevation noise sigma 0.5°, 1 % of
+#: sightings missed, 5 % of landmark and ball sightings misclassified, up to 5 false
+#: detections per update at 0.1 % each (0.5-15 m), and occlusion by the players.
+_MJ = PerceptionConfig(
+    update_period_cycles=2, distance_sigma_rel=0.0, azimuth_sigma_deg=0.0,
+    elevation_sigma_deg=0.0, calibration_error_m=0.0, truncate_decimals=2,
+    camera_height_m=1.1, landmark_kind="mj", lines=False, gyro_sigma_rad=0.0,
+)
 VISION_PROFILES: dict[str, PerceptionConfig] = {
     "simspark": PerceptionConfig(),
-    "mj": PerceptionConfig(
-        update_period_cycles=2, distance_sigma_rel=0.0, azimuth_sigma_deg=0.0,
-        elevation_sigma_deg=0.0, calibration_error_m=0.0, truncate_decimals=2,
-        camera_height_m=1.1, landmark_kind="mj", lines=False, gyro_sigma_rad=0.0,
+    "mj": _MJ,
+    "mj_noisy": replace(
+        _MJ, distance_sigma_rel=0.01, azimuth_sigma_deg=0.5, elevation_sigma_deg=0.5,
+        occlusion=True, missed_rate=0.01, misclassified_rate=0.05, false_rate=0.001,
+        false_max=5, false_distance_m=(0.5, 15.0),
     ),
 }
 

@@ -16,14 +16,48 @@ from strategy.perception.worldmodel import WorldModel
 
 _NO_PLAYERS = np.zeros((0, 2))
 
+KEEP_OFF_MARGIN_M = 0.2
+"""A walker stops this far beyond body contact (two body radii) from a teammate that already
+holds its target."""
+
+
+def keep_off_teammates(wm: WorldModel, target: NDArray[np.float64],
+                       clearance: float) -> NDArray[np.float64]:
+    """``target``, or, when a teammate that is nearer to it than this agent stands within
+    ``clearance`` of it, the point ``clearance`` from that teammate on the way in: the
+    teammate that got there first keeps the spot and the other stops beside it instead of
+    walking into it (two teammates sent to one spot meet there and may knock each other
+    over)."""
+    mates = wm.teammates_present.copy()
+    mates[wm.me] = False
+    if not mates.any():
+        return target
+    rows = wm.teammates[mates]
+    gap = np.hypot(rows[:, 0] - target[0], rows[:, 1] - target[1])
+    mine = math.hypot(wm.position[0] - target[0], wm.position[1] - target[1])
+    holding = (gap < clearance) & (gap < mine)
+    if not holding.any():
+        return target
+    occupant = rows[int(np.argmin(np.where(holding, gap, np.inf)))]
+    away = target - occupant
+    if math.hypot(away[0], away[1]) < 1e-6:  # the target is the teammate: stop on our side
+        away = wm.position - occupant
+    norm = math.hypot(away[0], away[1])
+    return occupant + away * (clearance / norm) if norm > 1e-9 else target
+
 
 def go_to(wm: WorldModel, target: ArrayLike, skills: Skills, face: ArrayLike | None = None,
           speed: float | None = None, avoid: bool = True,
           behaviour: str = "go_to") -> ControlRequest:
     """Walk to ``target`` (team frame), around the other players when ``avoid`` (potential
-    field), turning to face ``face`` near the target. The walk command is computed when
-    first read, or with the team's (``resolve_walks``)."""
-    goal = WalkGoal(wm.position, wm.heading, np.asarray(target, dtype=np.float64),
+    field; then also stopping beside a teammate that already holds the target,
+    ``keep_off_teammates``), turning to face ``face`` near the target. The walk command is
+    computed when first read, or with the team's (``resolve_walks``)."""
+    goal_point = np.asarray(target, dtype=np.float64)
+    if avoid:
+        goal_point = keep_off_teammates(wm, goal_point,
+                                        2.0 * skills.body.body_radius + KEEP_OFF_MARGIN_M)
+    goal = WalkGoal(wm.position, wm.heading, goal_point,
                     *wm.obstacle_rows() if avoid else (_NO_PLAYERS, None),
                     face=None if face is None else np.asarray(face, dtype=np.float64),
                     speed=speed, params=skills.navigation)

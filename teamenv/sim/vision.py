@@ -24,12 +24,16 @@ The pipeline per sighting: camera-relative vector + the agent's calibration erro
 noise (distance ``d += d * N(0, distance_sigma_rel)``, azimuth and elevation Gaussian) ->
 truncation toward zero (degrees / metres, ``truncate_decimals``) -> cone and distance checks ->
 occlusion (``occlusion``: hidden when a nearer player's disc covers its azimuth; lines are
-never occluded). Vision updates on cycles where ``cycle % update_period_cycles == 0``; on other
+never occluded) -> detection errors (``missed_rate``, ``misclassified_rate``, ``false_rate`` /
+``false_max``: a sighting lost, a landmark or ball sighting reported in another world object's
+row, a made-up one in the cone; see ``_detection_errors``). Vision updates on cycles where ``cycle % update_period_cycles == 0``; on other
 cycles nothing is seen (every present mask 0, every sighting 0).
 
 Randomness: the generator given to ``reset`` (the env's own vision generator) draws the
 calibration errors at reset, then, when the profile is noisy, one block of normals per update
-cycle, and the gyro noise every cycle.
+cycle, then, when it has detection errors, their draws (uniforms for the missed and the
+misclassified sightings, binomial counts and uniforms for the false ones), and the gyro noise
+every cycle.
 """
 
 from __future__ import annotations
@@ -170,6 +174,7 @@ class VisionPerception:
         self._sigma = np.array([cfg.distance_sigma_rel, math.radians(cfg.azimuth_sigma_deg),
                                 math.radians(cfg.elevation_sigma_deg)])
         self._noisy = bool(np.any(self._sigma > 0))
+        self._errors = cfg.detection_errors
         self.rng = np.random.default_rng(0)
         self.calibration = np.zeros((n, 3))
         self._block_key: tuple | None = None
@@ -354,6 +359,8 @@ class VisionPerception:
         seen[:, k + 1:] &= ~self._self_col
         if cfg.occlusion:
             seen &= ~self._occluded(fwd[:, :m], left[:, :m], k)
+        if self._errors:
+            self._detection_errors(seen, dist, az, el, k)
 
         # Sightings: present, distance, azimuth, elevation (0 where not seen).
         sight = np.zeros((n, m, SIGHTING_DIM))
@@ -381,6 +388,54 @@ class VisionPerception:
             a, b = off["lines"]
             rows[:, a:b] = out.reshape(n, -1)
             rows[:, off["counts"][0] + 2] = present.sum(axis=1)
+
+    def _detection_errors(self, seen: np.ndarray, dist: np.ndarray, az: np.ndarray,
+                          el: np.ndarray, k: int) -> None:
+        """A detector's errors, in place on the update's ``seen`` (n, M) and its polar values
+        (columns 0..M-1: the ``k`` landmarks, the ball, the players): missed sightings, landmark
+        and ball sightings reported under another world object's name, and false detections.
+        A row holds one sighting: a genuine one keeps its row, a misclassified or false one
+        only takes a row nothing else was seen in (the server would send both)."""
+        cfg, rng, n = self.config, self.rng, self.n
+        world = k + 1  # the world objects a name can be confused with: landmarks and the ball
+        if cfg.missed_rate > 0:
+            seen &= rng.random(seen.shape) >= cfg.missed_rate
+        if cfg.misclassified_rate > 0 and world > 1:
+            wrong = seen[:, :world] & (rng.random((n, world)) < cfg.misclassified_rate)
+            draw = rng.integers(0, world - 1, (n, world))
+            label = draw + (draw >= np.arange(world))  # uniform over the other objects
+            agent, obj = np.nonzero(wrong)
+            name = label[agent, obj]
+            values = dist[agent, obj], az[agent, obj], el[agent, obj]
+            seen[agent, obj] = False
+            self._put(seen, dist, az, el, agent, name, values)
+        if cfg.false_rate > 0 and cfg.false_max > 0:
+            count = rng.binomial(cfg.false_max, cfg.false_rate, n)
+            total = int(count.sum())
+            if total:
+                agent = np.repeat(np.arange(n), count)
+                name = rng.integers(0, world, total)
+                low, high = cfg.false_distance_m
+                values = (rng.uniform(low, high, total),
+                          rng.uniform(-self._half_h, self._half_h, total),
+                          rng.uniform(-self._half_v, self._half_v, total))
+                if self._scale is not None:
+                    values = (_trunc(values[0], self._scale),
+                              np.radians(_trunc(np.degrees(values[1]), self._scale)),
+                              np.radians(_trunc(np.degrees(values[2]), self._scale)))
+                self._put(seen, dist, az, el, agent, name, values)
+
+    @staticmethod
+    def _put(seen: np.ndarray, dist: np.ndarray, az: np.ndarray, el: np.ndarray,
+             agent: np.ndarray, name: np.ndarray, values: tuple) -> None:
+        """Report ``values`` (distance, azimuth, elevation) in rows ``name`` of ``agent``
+        where nothing is seen yet (two landing on one free row: the later one)."""
+        free = ~seen[agent, name]
+        agent, name = agent[free], name[free]
+        seen[agent, name] = True
+        dist[agent, name] = values[0][free]
+        az[agent, name] = values[1][free]
+        el[agent, name] = values[2][free]
 
     def _occluded(self, fwd: np.ndarray, left: np.ndarray, k: int) -> np.ndarray:
         """(n, M): a nearer player's disc covers the point's azimuth (from the camera, without

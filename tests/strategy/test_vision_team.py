@@ -82,18 +82,24 @@ def test_silent_team_says_nothing_in_vision_mode():
         assert not any(p.last_request.say for p in env.teams["left"].players.values())
 
 
+@pytest.mark.slow
 def test_voting_makes_the_team_agree_more_than_each_agent_alone():
+    # every agent starts in its own kick-off slot (the beam), so agents alone disagree only
+    # once play has moved them and their beliefs drift apart: the noisier camera of the
+    # server's next vision, two matches pooled
     share = {}
     for vote in (True, False):
-        env = _env(cycles=1000, left_config={"vote": vote}, team_size=7)
-        env.reset(seed=1)
-        players = list(env.teams["left"].players.values())
         same = []
-        while not env.episode_over:
-            env.step({})
-            if env.sim.referee.mode.name == "PlayOn":
-                v = [p.last_decision.team_vector for p in players]
-                same.append(all(np.array_equal(v[0], x) for x in v[1:]))
+        for seed in (1, 2):
+            env = _env(cycles=1000, left_config={"vote": vote}, team_size=7,
+                       vision="mj_noisy")
+            env.reset(seed=seed)
+            players = list(env.teams["left"].players.values())
+            while not env.episode_over:
+                env.step({})
+                if env.sim.referee.mode.name == "PlayOn":
+                    v = [p.last_decision.team_vector for p in players]
+                    same.append(all(np.array_equal(v[0], x) for x in v[1:]))
         share[vote] = float(np.mean(same))
     assert share[True] > 0.95
     assert share[True] > share[False] + 0.05
