@@ -1,0 +1,66 @@
+"""benchmarks/fidelity_study.py's analysis on a tiny stored run (three strategies, 2 v 2, 6 s):
+results JSON, ranks, the agreement table, the figure and the docs page."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import math
+import shutil
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+_spec = importlib.util.spec_from_file_location("fidelity_study",
+                                               ROOT / "benchmarks" / "fidelity_study.py")
+study = importlib.util.module_from_spec(_spec)
+sys.modules["fidelity_study"] = study
+_spec.loader.exec_module(study)
+STORED = ROOT / "tests" / "data" / "fidelity_study_tiny"
+
+
+@pytest.fixture
+def run(tmp_path):
+    out = tmp_path / "run"
+    shutil.copytree(STORED, out)
+    return out
+
+
+def test_analysis_of_a_stored_run(run, tmp_path):
+    figure, page = tmp_path / "fig.png", tmp_path / "page.md"
+    results = study.analyse(run, bootstrap=100, seed=0, figure=figure, page=page)
+    assert results["league_matches"] == 6
+    on_disk = json.loads((run / "results.json").read_text())
+    assert on_disk["ranks"] == results["ranks"]
+    for world in ("league", "teamenv", "teamenv calibrated"):
+        for metric, table in results["ranking"][world].items():
+            r = results["ranks"][world][metric]
+            assert set(r) == {"full", "chaser", "static"}
+            best = max(table, key=table.get)
+            assert r[best] == min(r.values())          # rank 1 goes to the best score
+            assert sum(r.values()) == pytest.approx(6)  # ties share their mean rank
+    # every league match of the tiny run was 0-0: the points table is a tie, so the
+    # headline ranking falls back to a finer one that separates the teams
+    assert len(set(results["ranking"]["league"]["points"].values())) == 1
+    assert study.headline_metric(results) != "points"
+    assert math.isnan(results["agreement"]["teamenv vs league, points"]["rho"])
+    assert figure.stat().st_size > 5000
+    text = page.read_text()
+    assert "Spearman rho" in text and "`full`" in text and "fig.png" in text
+    assert text.count("\n| teamenv") >= 4
+
+
+def test_stat_ratios_flag_the_25_percent_band():
+    ratios = study.stat_ratios({"league": {"goals": 1.0, "kicks": 4.0, "falls": 0.0},
+                                "teamenv": {"goals": 1.2, "kicks": 6.0, "falls": 0.0}})
+    assert ratios["teamenv"]["goals"]["within_25pct"]
+    assert not ratios["teamenv"]["kicks"]["within_25pct"]
+    assert ratios["teamenv"]["falls"]["within_25pct"]        # 0 against 0
+    assert "ball_progress_m" not in ratios["teamenv"]
+
+
+def test_study_refuses_a_seed_outside_the_evaluation_range(tmp_path):
+    with pytest.raises(SystemExit):
+        study.main(["--out", str(tmp_path), "--seed", "5", "--analyse-only"])
