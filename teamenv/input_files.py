@@ -28,6 +28,10 @@ _ZIP_MAGIC = (b"PK\x03\x04", b"PK\x05\x06")
 _DAMAGE = (zipfile.BadZipFile, zipfile.LargeZipFile, zlib.error, NotImplementedError,
            RuntimeError, OSError, EOFError, ValueError, KeyError, IndexError, TypeError,
            struct.error, OverflowError, MemoryError, UnicodeDecodeError)
+#: The end-of-central-directory record (signature, disk numbers, entries on this disk, total
+#: entries, directory size and offset, comment length) and how far back from the end it can be.
+_EOCD = struct.Struct("<4s4H2LH")
+_EOCD_SEARCH = _EOCD.size + 0xFFFF
 #: An array member larger than this (uncompressed) is refused before it is read.
 MAX_MEMBER_BYTES = 1 << 32
 
@@ -67,8 +71,15 @@ def read_npz(path: str | Path, describe: str,
                     f"this file starts with {head!r})")
     arrays: dict[str, np.ndarray] = {}
     try:
+        listed = _listed_members(p)
         with zipfile.ZipFile(p) as archive:
-            for info in archive.infolist():
+            members = archive.infolist()
+            # zipfile stops reading the directory where its stated size ends: a damaged size
+            # would silently drop the members after it
+            if listed is not None and listed != len(members):
+                raise _Refused(f"its directory says {listed} members but {len(members)} were "
+                               "found")
+            for info in members:
                 name = info.filename
                 if not name.endswith(".npy"):
                     raise _Refused(f"member {name!r} is not an .npy array")
@@ -87,6 +98,21 @@ def read_npz(path: str | Path, describe: str,
         raise error(f"{describe}: not a readable {what}: the .npz archive is damaged "
                     f"({detail})") from exc
     return arrays
+
+
+def _listed_members(path: Path) -> int | None:
+    """The member count in the zip's end-of-central-directory record (None: a zip64
+    archive, whose count lives elsewhere; zipfile reports a missing record itself)."""
+    with path.open("rb") as fh:
+        fh.seek(0, 2)
+        size = fh.tell()
+        fh.seek(max(0, size - _EOCD_SEARCH))
+        tail = fh.read()
+    at = tail.rfind(b"PK\x05\x06")
+    if at < 0 or len(tail) - at < _EOCD.size:
+        return None
+    total = _EOCD.unpack_from(tail, at)[4]
+    return None if total == 0xFFFF else total
 
 
 class _Refused(Exception):
