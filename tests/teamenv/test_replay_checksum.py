@@ -12,8 +12,13 @@ import pytest
 import teamenv
 from teamenv.errors import ConfigError
 from teamenv.policy_team import PolicyFileError, load_policy
-from teamenv.replay import CHECKSUM_KEY, REPLAY_FORMAT, ReplayRecorder, load_replay, \
-    replay_checksum
+from teamenv.replay import (
+    CHECKSUM_KEY,
+    REPLAY_FORMAT,
+    ReplayRecorder,
+    load_replay,
+    replay_checksum,
+)
 
 
 @pytest.fixture(scope="module")
