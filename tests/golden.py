@@ -46,6 +46,9 @@ MATCHES: dict[str, dict[str, Any]] = {
     "full-silent-simspark11-vision": dict(left="full", right="silent", field="simspark",
                                           team_size=11, half_time_s=3.0, seed=15,
                                           observation_mode="vision"),
+    "full-chaser-mj7v7-vision-mj_noisy": dict(left="full", right="chaser", field="mj7v7",
+                                              team_size=7, half_time_s=4.0, seed=16,
+                                              observation_mode="vision", vision="mj_noisy"),
 }
 
 ENV_RUNS: dict[str, dict[str, Any]] = {
