@@ -51,6 +51,12 @@ class TeamFault(TeamEnvError, RuntimeError):
         self.detail = detail
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised by the ``teamenv`` command in its main thread like Ctrl-C, so a command
+    stops the same clean way (a tournament's worker pool, fork server and resource tracker
+    shut down; what is stored stays stored)."""
+
+
 _LINE_BREAK = re.compile(r"\n\s*")
 
 

@@ -6,6 +6,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from teamenv.errors import Terminated
+
 DEFAULT_NAME = "tournament"
 
 
@@ -146,6 +148,8 @@ def _run(args: argparse.Namespace) -> int:
                                  progress=not args.no_progress, console=console,
                                  stop_when_separated=args.rank_by if args.stop_when_separated
                                  else None)
+    except Terminated:
+        raise                   # the command's exit status says SIGTERM (143)
     except KeyboardInterrupt:
         return 130
     console.print(summary.describe())
@@ -218,6 +222,8 @@ def _matches(args: argparse.Namespace) -> int:
 
     with ResultStore(args.db) as store:
         tid, tournament = store.get_tournament(args.name)
+        print(f"{'id':>6s}  {'#idx':<6s} {'seed':<15s} left score right  wall  [forfeit]  "
+              "goals (game time s:side)")
         for r in store.matches(tid):
             forfeit = f"  forfeit {r.forfeit_side}: {r.forfeit_reason}" if r.forfeit_side else ""
             goals = " ".join(f"{g.time_s:.1f}s:{g.side}" for g in r.goals)

@@ -146,3 +146,26 @@ def test_cli_names_the_unreachable_cluster_in_one_line(ray_tmpdir, tmp_path):
     assert done.returncode != 0
     assert "Traceback" not in done.stderr
     assert f"127.0.0.1:{port}" in done.stderr and "nothing answers" in done.stderr
+
+
+def test_a_ray_worker_killed_mid_tournament_loses_and_duplicates_nothing(ray_tmpdir, tmp_path,
+                                                                         monkeypatch):
+    """A worker dies in its first match (os._exit, as a segfault would): Ray retries the task,
+    every match of the schedule is stored exactly once, and the retried match is the same
+    match the process pool plays."""
+    marker = tmp_path / "crashed"
+    monkeypatch.setenv("TEAMENV_TEST_CRASH_MARKER", str(marker))
+    crash = "tests.teamenv.tournament_faulty_teams:CrashOnceTeam"
+    t = round_robin("crash", [crash, "chaser"], games_per_pairing=2, seed=7, options=OPTIONS)
+    on_ray = run_tournament(t, tmp_path / "ray.sqlite", backend="ray", jobs=1, progress=False)
+    assert marker.exists()                       # a worker did die
+    assert on_ray.complete and on_ray.stored == 4
+    with ResultStore(tmp_path / "ray.sqlite") as store:
+        rows = store.matches(on_ray.tournament_id)
+    rows = sorted(rows, key=lambda r: r.idx)
+    assert [r.idx for r in rows] == [0, 1, 2, 3]             # each once
+    pool = run_tournament(t, tmp_path / "pool.sqlite", jobs=1, progress=False)  # marker set
+    with ResultStore(tmp_path / "pool.sqlite") as store:
+        want = [r.comparable() for r in sorted(store.matches(pool.tournament_id),
+                                               key=lambda r: r.idx)]
+    assert [r.comparable() for r in rows] == want

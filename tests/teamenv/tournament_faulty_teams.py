@@ -59,3 +59,21 @@ class PickyTeam(StaticTeam):
             raise ValueError(f"picky team: mode must be 'a' or 'b', got {mode!r}")
         super().__init__(context, depth=depth)
         self.mode = mode
+
+
+class CrashOnceTeam(StaticTeam):
+    """Kills the process it runs in on its first act() of the run, once: the first one to find
+    no marker file (path in ``TEAMENV_TEST_CRASH_MARKER``) creates it and dies; later ones
+    play as the static team. For tests of a worker killed mid-tournament."""
+
+    def act(self, observations: Mapping[str, Any]) -> dict:
+        marker = os.environ.get("TEAMENV_TEST_CRASH_MARKER")
+        if marker:
+            try:
+                fd = os.open(marker, os.O_CREAT | os.O_EXCL | os.O_WRONLY)
+            except FileExistsError:
+                pass
+            else:
+                os.close(fd)
+                os._exit(13)
+        return super().act(observations)
