@@ -401,6 +401,20 @@ def plot_curve(episodes: list[tuple[int, float, bool]], baselines: dict, learned
     plt.close(fig)
 
 
+def output_paths(scenario: str, smoke: bool, policy: Path | None = None,
+                 report: Path | None = None, plot: Path | None = None) -> tuple[Path, Path, Path]:
+    """Where a run writes its policy, report and figure: the committed files of a real run
+    (examples/policies/, docs/), or runs/ for a smoke run, which never writes over them."""
+    if smoke:
+        here = Path("runs") / f"train_scenario_policy_smoke_{scenario}"
+        defaults = (here / "policy.npz", here / "report.json", here / "curve.png")
+    else:
+        defaults = (Path(f"examples/policies/{scenario}.npz"),
+                    Path(f"examples/policies/{scenario}.json"),
+                    Path(f"docs/rl_learning_curve_{scenario}.png"))
+    return policy or defaults[0], report or defaults[1], plot or defaults[2]
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--scenario", default="keep_away", choices=sorted(TASKS),
@@ -443,8 +457,8 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--plot", type=Path, default=None,
                         help="default docs/rl_learning_curve_<scenario>.png")
     parser.add_argument("--smoke", action="store_true",
-                        help="a tiny run for CI: 256 agent-steps, 2 evaluation episodes; give "
-                             "--policy/--report/--plot elsewhere")
+                        help="a tiny run for CI: 256 agent-steps, 2 evaluation episodes; "
+                             "writes under runs/ unless --policy/--report/--plot say where")
     args = parser.parse_args(argv)
     task = TASKS[args.scenario]
     for key, value in {"n_envs": 8, "n_steps": 512, "batch_size": 512, "gamma": 0.995,
@@ -460,9 +474,10 @@ def main(argv: list[str] | None = None) -> None:
     from stable_baselines3 import PPO
     from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecNormalize
 
-    args.policy = args.policy or Path(f"examples/policies/{args.scenario}.npz")
-    args.report = args.report or Path(f"examples/policies/{args.scenario}.json")
-    args.plot = args.plot or Path(f"docs/rl_learning_curve_{args.scenario}.png")
+    args.policy, args.report, args.plot = output_paths(args.scenario, args.smoke, args.policy,
+                                                       args.report, args.plot)
+    for path in (args.policy, args.report, args.plot):
+        path.parent.mkdir(parents=True, exist_ok=True)
     reward = dict(task.reward)
     if args.goal_weight is not None:
         reward["goal"] = args.goal_weight

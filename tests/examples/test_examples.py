@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 pytestmark = pytest.mark.rl
-EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+ROOT = Path(__file__).resolve().parents[2]
+EXAMPLES = ROOT / "examples"
 
 
 def run_example(script: str, *args: str) -> str:
@@ -116,3 +117,16 @@ def test_train_scenario_policy_exports_a_policy_the_policy_team_plays(tmp_path, 
     assert (policy.walk_to_ball, policy.action_repeat) == \
         ((True, 5) if scenario == "keep_away" else (False, 1))
     assert paths["curve.png"].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_smoke_runs_never_write_over_the_committed_policy_and_figure():
+    paths = example_module("train_scenario_policy").output_paths
+    committed = paths("keep_away", smoke=False)
+    assert committed == (Path("examples/policies/keep_away.npz"),
+                         Path("examples/policies/keep_away.json"),
+                         Path("docs/rl_learning_curve_keep_away.png"))
+    smoke = paths("keep_away", smoke=True)
+    assert all(p.parts[0] == "runs" for p in smoke) and not set(smoke) & set(committed)
+    assert paths("keep_away", smoke=True, policy=Path("x.npz"))[0] == Path("x.npz")
+    ignored = (ROOT / ".gitignore").read_text().splitlines()
+    assert "/runs/" in ignored
