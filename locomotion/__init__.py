@@ -7,7 +7,7 @@ Public API (see docs/CONTRACTS.md, "Locomotion"):
 * :func:`omni_displacement` -- seed 001 eq. 4 in a form exact as the turn rate goes to 0.
 
 The brax/MuJoCo humanoid used to measure profiles lives in :mod:`locomotion.humanoid` and is
-imported only on demand (``pip install 'teamenv[humanoid]'``).
+imported only on demand (``pip install -e '.[humanoid]'``).
 """
 
 from __future__ import annotations

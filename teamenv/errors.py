@@ -32,7 +32,7 @@ class MissingExtraError(TeamEnvError, ImportError):
     def __init__(self, extra: str, package: str, feature: str) -> None:
         super().__init__(
             f"{feature} needs the '{extra}' extra ({package} is not installed): "
-            f"pip install 'teamenv[{extra}]'"
+            f"pip install -e '.[{extra}]' in the teamenv checkout"
         )
         self.extra = extra
         self.package = package

@@ -1,7 +1,7 @@
 """The humanoid extra: the league's T1 in brax (and native MuJoCo) to measure locomotion profiles.
 
 Nothing here is imported by ``locomotion`` itself; jax, brax, mujoco and rcsssmj are imported
-lazily and a missing one raises ImportError naming ``pip install 'teamenv[humanoid]'``.
+lazily and a missing one raises ImportError naming ``pip install -e '.[humanoid]'``.
 
 * :mod:`.t1` -- load the T1 MJCF shipped in rcsssmj, stance and joint PD gains;
 * :mod:`.brax_sim` -- batched brax (generalized pipeline) rollouts;

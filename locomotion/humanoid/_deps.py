@@ -7,7 +7,7 @@ from types import ModuleType
 
 __all__ = ["require", "EXTRA_HINT"]
 
-EXTRA_HINT = "pip install 'teamenv[humanoid]'"
+EXTRA_HINT = "pip install -e '.[humanoid]' in the teamenv checkout"
 
 
 def require(module: str) -> ModuleType:

@@ -44,7 +44,7 @@ def curve_rows(path: Path) -> list[dict[str, str]]:
 
 
 def test_sb3_supersuit_ppo_trains_and_saves_a_loadable_model(tmp_path):
-    pytest.importorskip("stable_baselines3", reason="needs the rl extra: pip install 'teamenv[rl]'")
+    pytest.importorskip("stable_baselines3", reason="needs the rl extra: pip install -e '.[rl]'")
     from stable_baselines3 import PPO
 
     stdout = run_example("sb3_supersuit_ppo.py", "--out", str(tmp_path))
@@ -61,7 +61,7 @@ def test_sb3_supersuit_ppo_trains_and_saves_a_loadable_model(tmp_path):
 
 
 def test_cleanrl_ppo_trains_and_saves_its_weights(tmp_path):
-    torch = pytest.importorskip("torch", reason="needs the rl extra: pip install 'teamenv[rl]'")
+    torch = pytest.importorskip("torch", reason="needs the rl extra: pip install -e '.[rl]'")
     stdout = run_example("cleanrl_ppo.py", "--out", str(tmp_path))
     assert "mean episode return" in stdout
     rows = curve_rows(tmp_path / "returns.csv")
@@ -72,7 +72,7 @@ def test_cleanrl_ppo_trains_and_saves_its_weights(tmp_path):
 
 
 def test_rllib_multiagent_trains_one_policy_per_team(tmp_path):
-    pytest.importorskip("ray.rllib", reason="needs the rl extra: pip install 'teamenv[rl]'")
+    pytest.importorskip("ray.rllib", reason="needs the rl extra: pip install -e '.[rl]'")
     stdout = run_example("rllib_multiagent.py", "--out", str(tmp_path), "--policies",
                          "per-team")
     assert stdout.count("iteration ") >= 2
@@ -94,7 +94,7 @@ def test_rllib_policy_mapping_shares_or_splits_by_team():
 
 @pytest.mark.parametrize("scenario", ["keep_away", "one_v_goalie"])
 def test_train_scenario_policy_exports_a_policy_the_policy_team_plays(tmp_path, scenario):
-    pytest.importorskip("stable_baselines3", reason="needs the rl extra: pip install 'teamenv[rl]'")
+    pytest.importorskip("stable_baselines3", reason="needs the rl extra: pip install -e '.[rl]'")
     from teamenv.policy_team import load_policy
 
     paths = {name: tmp_path / name for name in ("policy.npz", "report.json", "curve.png")}

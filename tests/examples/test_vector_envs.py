@@ -37,7 +37,7 @@ def test_gymnasium_async_vector_env_steps_the_player_view_like_the_sync_one():
 
 @pytest.mark.rl
 def test_supersuit_multiprocess_concat_matches_in_process():
-    supersuit = pytest.importorskip("supersuit", reason="needs the rl extra: pip install 'teamenv[rl]'")
+    supersuit = pytest.importorskip("supersuit", reason="needs the rl extra: pip install -e '.[rl]'")
 
     def vec_env(workers: int):
         env = teamenv.parallel_env(team_size=2, observation_format="box", action_format="box",

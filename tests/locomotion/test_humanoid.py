@@ -11,7 +11,7 @@ from locomotion import load_profile
 
 pytestmark = pytest.mark.humanoid
 
-pytest.importorskip("brax", reason="needs the humanoid extra: pip install 'teamenv[humanoid]'")
+pytest.importorskip("brax", reason="needs the humanoid extra: pip install -e '.[humanoid]'")
 pytest.importorskip("mujoco")
 pytest.importorskip("rcsssmj")
 

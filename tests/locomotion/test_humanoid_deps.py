@@ -13,7 +13,7 @@ from locomotion.humanoid import EXTRA_HINT, require
 def test_missing_extra_names_the_install_command() -> None:
     with pytest.raises(ImportError, match=r"pip install 'teamenv\[humanoid\]'"):
         require("surely_not_an_installed_module_xyz")
-    assert "teamenv[humanoid]" in EXTRA_HINT
+    assert "pip install -e '.[humanoid]'" in EXTRA_HINT
 
 
 def test_locomotion_imports_no_heavy_or_upper_packages() -> None:

@@ -12,7 +12,7 @@ from locomotion import load_profile
 
 pytestmark = pytest.mark.humanoid
 
-pytest.importorskip("mujoco", reason="needs the humanoid extra: pip install 'teamenv[humanoid]'")
+pytest.importorskip("mujoco", reason="needs the humanoid extra: pip install -e '.[humanoid]'")
 pytest.importorskip("rcsssmj")
 
 

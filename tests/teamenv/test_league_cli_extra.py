@@ -24,7 +24,7 @@ def test_local_server_without_the_extra_is_one_line(monkeypatch, capsys, hidden)
     assert len(lines) == 1, err
     assert lines[0].startswith("teamenv: error: league-match --server local needs the "
                                "'humanoid' extra")
-    assert "pip install 'teamenv[humanoid]'" in lines[0]
+    assert "pip install -e '.[humanoid]'" in lines[0]
     assert "Traceback" not in err
 
 

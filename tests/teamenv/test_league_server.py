@@ -25,7 +25,7 @@ from teamenv.league.t1 import T1_MOTORS, joint_sensor
 from teamenv.league.team_client import TeamClient, join_teams
 
 pytestmark = pytest.mark.humanoid
-pytest.importorskip("rcsssmj", reason="needs the humanoid extra: pip install 'teamenv[humanoid]'")
+pytest.importorskip("rcsssmj", reason="needs the humanoid extra: pip install -e '.[humanoid]'")
 
 HOST = "127.0.0.1"
 DATA = Path(__file__).parent / "league_data"

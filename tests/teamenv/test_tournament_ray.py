@@ -17,7 +17,7 @@ OPTIONS = MatchOptions(team_size=2, half_time_s=25.0, halves=1)
 
 def test_missing_ray_names_the_extra(monkeypatch):
     monkeypatch.setitem(sys.modules, "ray", None)  # makes `import ray` fail
-    with pytest.raises(MissingExtraError, match=r"teamenv\[ray\]"):
+    with pytest.raises(MissingExtraError, match=r"pip install -e '\.\[ray\]'"):
         make_backend("ray")
 
 
