@@ -5,7 +5,7 @@ communicating team does; texts drawn from the channel's alphabet, lengths within
 random Dict actions without messages, random Box actions; each against the *reference*: a bare
 pymunk loop with the same 2N + 1 bodies and walls that each step sets 2N velocities and reads
 2N + 1 positions through pymunk's per-body attributes (``body.velocity = ...``,
-``body.position``), then calls ``space.step(0.02)``. Target (issue 16): env(Dict + say) >= 0.25
+``body.position``), then calls ``space.step(0.02)``. Target: env(Dict + say) >= 0.25
 x the reference. Actions are drawn before timing.
 
 Usage: python benchmarks/env_speed.py [--steps 1000] [--team-size 11] [--repeats 10]
@@ -100,7 +100,7 @@ class EnvRun:
 
 
 class ReferenceRun:
-    """The reference loop of issue 16: the env's World (the same 2N players + ball, goal posts,
+    """The reference loop: the env's World (the same 2N players + ball, goal posts,
     nets and walls) driven from plain Python through pymunk's per-body attributes. Each step
     sets 2N velocities (``body.velocity = (vx, vy)``), reads 2N + 1 positions
     (``body.position``), then calls ``space.step(0.02)``. Each call times ``steps`` steps and

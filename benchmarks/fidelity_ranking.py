@@ -1,4 +1,4 @@
-"""Ranking fidelity (issue 14): does a ranking made in teamenv hold on the league server?
+"""Ranking fidelity: does a ranking made in teamenv hold on the league server?
 
 Skeleton: reads two tournaments stored in the tournament SQLite format — one played in teamenv
 (`teamenv tournament run ...`), one on the league server (`teamenv league-tournament ...`) —

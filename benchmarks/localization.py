@@ -1,4 +1,4 @@
-"""Monte Carlo localization: error and cost per particle count (issue 13 part 2).
+"""Monte Carlo localization: error and cost per particle count.
 
 Synthetic walks (``tests.strategy.test_localization.synthetic_walk``: SimSpark's noise and
 landmarks on the 30 x 20 m pitch, lines, odometry over-reported by 1.1/1.1/1.05 with 5 %

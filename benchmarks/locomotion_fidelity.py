@@ -16,7 +16,7 @@ from locomotion.walk import compose
 DT = 0.02
 
 # Steady-state reference measured on the league server (rcsssmj 0.2.1, reference walking
-# network, 15 s runs; teamenv issue 7), compared with the t1_mj profile.
+# network, 15 s runs), compared with the t1_mj profile.
 RCSSSMJ_STEADY = {
     "vx 0.25": ((0.25, 0, 0), (0.26, 0, 0)),
     "vx 0.5": ((0.5, 0, 0), (0.49, 0, 0)),
@@ -221,7 +221,7 @@ def main() -> None:
     args = ap.parse_args()
     ref = locomotion.load_profile("t1_mj")
     print(f"Fidelity report ({ref.name} v{ref.version} for steady state)\n")
-    print("1. Steady state after 15 s: 2D model (t1_mj) vs rcsssmj 0.2.1 reference walk (issue 7)")
+    print("1. Steady state after 15 s: 2D model (t1_mj) vs rcsssmj 0.2.1 reference walk")
     print(f"   {'command':10s} {'model':>8s} {'measured':>9s} {'error':>6s}")
     rows = steady_state_check(ref)
     for name, m, r, e in rows:

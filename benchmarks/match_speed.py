@@ -11,9 +11,9 @@ Usage:
     python benchmarks/match_speed.py --repeat 3 --json      # best of 3, JSON on stdout
     python benchmarks/match_speed.py --observation vision   # the cost of perception
 
-The target (issue 16): a full simspark match between two full teams in at most 15 s in state
+The target: a full simspark match between two full teams in at most 15 s in state
 mode (>= 2,000 cycles/s), as the first step toward 6 s; vision mode at most 2x state mode
-(issue 5's earlier target was 60 s), on the 2-core development machine. Set
+(the earlier target was 60 s), on the 2-core development machine. Set
 OPENBLAS_NUM_THREADS=1 on a busy machine; timings are noisy there, so take the best of
 several repeats (--repeat).
 """
@@ -34,7 +34,7 @@ from teamenv.env import TIMING_PHASES, SoccerParallelEnv
 from teamenv.teams import registered_teams
 
 TARGET_CYCLES_PER_S = 2000.0
-"""State mode (issue 16); vision mode's target is half the state mode's rate."""
+"""State mode; vision mode's target is half the state mode's rate."""
 DEFAULT_TEAM = "full"
 FALLBACK_TEAM = "chaser"
 SIM_PHASE_NAMES = {"physics": "physics (pymunk world step + body I/O)",

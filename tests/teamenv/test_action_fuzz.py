@@ -1,4 +1,4 @@
-"""Fuzzing the action parser from the caller's side (issue 15, part 8): every malformed action,
+"""Fuzzing the action parser from the caller's side: every malformed action,
 Dict or Box, strict or lenient, gets a ``TeamEnvError`` naming the agent, the field and the value
 (strict) or a documented drop (lenient: warned and listed in ``infos[agent]["dropped"]``); no
 other exception escapes, and valid actions pass untouched.

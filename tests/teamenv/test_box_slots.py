@@ -1,5 +1,5 @@
 """Slot names of the flat (Box) observation and action (teamenv.slots): as many as the spaces
-hold, and each names the value found at its place (issue 15, part 1)."""
+hold, and each names the value found at its place."""
 
 from __future__ import annotations
 
