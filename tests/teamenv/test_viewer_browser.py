@@ -20,7 +20,8 @@ import numpy as np
 import pytest
 
 from teamenv.replay import Replay, load_replay
-from teamenv.tournament import ResultStore
+from teamenv.match import MatchOptions
+from teamenv.tournament import ResultStore, round_robin, run_tournament
 from teamenv.viewer.server import ViewerServer
 from teamenv.viewer.sources import ViewerSource, open_source
 
@@ -252,6 +253,8 @@ def test_belief_role_and_heard_overlays(page, replay):
         page.goto(server.url + f"?cycle={SEEK_CYCLE}")
         page.wait_for_function(READY + f" && teamenvViewer.state.cycle === {SEEK_CYCLE}"
                                " && teamenvViewer.state.overlaysLoaded")
+        # nobody selected: a dot on each speaker, no speaker -> listener lines (docs/viewer.md)
+        assert page.evaluate("teamenvViewer.state.drawn.heard") == []
         page.evaluate("teamenvViewer.select(1)")
         drawn = page.evaluate("teamenvViewer.state.drawn")
         (belief,) = drawn["beliefs"]
@@ -289,5 +292,26 @@ def test_tournament_match_list_opens_a_match(page, tmp_path):
         assert f"{wanted.left_team} vs {wanted.right_team}" in page.text_content("#match-title")
         assert "current" in page.get_attribute(
             f"#matches-body tr[data-match-id='{wanted.id}']", "class")
+
         ARTIFACTS.mkdir(parents=True, exist_ok=True)
         page.screenshot(path=str(ARTIFACTS / "viewer_tournament.png"))
+
+
+def test_match_list_headers_stay_on_one_line_beside_long_team_labels(page, tmp_path):
+    """The headers broke letter by letter when a long team label squeezed their columns."""
+    long_spec = ("full:ball_pull=0.2974,dribble_speed=1.148,kick_goal_weight=43.55,"
+                 "kick_possession_weight=5.184,pressure_m=3.8")
+    t = round_robin("long-labels", [long_spec, "chaser"], games_per_pairing=1, seed=0,
+                    options=MatchOptions(team_size=1, half_time_s=1.0, halves=1))
+    db = tmp_path / "t.sqlite"
+    run_tournament(t, db, backend="serial", replay_dir=tmp_path / "replays", progress=False)
+    with ViewerServer(open_source(db)).start() as server:
+        page.goto(server.url)
+        page.wait_for_function("document.querySelectorAll('#matches-body tr.match-row')"
+                               ".length === 2")
+        cells = page.evaluate("[...document.querySelectorAll('#matches-body th')].map("
+                              "th => [th.textContent, th.getBoundingClientRect().height,"
+                              " parseFloat(getComputedStyle(th).lineHeight)])")
+        assert len(cells) == 6
+        for text, height, line in cells:   # one line of text, its padding and border
+            assert height < 1.5 * line + 6, (text, height, line)

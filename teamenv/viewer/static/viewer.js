@@ -362,10 +362,10 @@
         ctx.beginPath(); ctx.arc(px - radius, py - radius, 2.5 * dpr, 0, 2 * Math.PI); ctx.fill();
       }
     }
-    if (shown.heard) {  // a line from each speaker to the followed listener
+    if (shown.heard && state.selected !== null) {  // a line from each speaker to the selected
       ctx.lineWidth = 1.5 * dpr;
       for (let i = 0; i < n2; i++) {
-        if (state.selected === null ? false : state.selected !== i) continue;
+        if (state.selected !== i) continue;
         const last = lastHeard(c, i, 10);
         for (const k of last ? last.speakers : []) {
           heard.push([k, i]);
