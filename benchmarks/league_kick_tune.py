@@ -1,17 +1,21 @@
-"""Tune the T1's keyframe kick for the league server, with the server's own physics as the plant.
+"""Tune the T1's kick (a kick step of the walker, ``teamenv.league.kick``) for the league
+server, with the server's own physics as the plant.
 
 The plant is ``LocalServer`` (rcsssmj in this process). Each candidate ``KickParams`` kicks
 from standing at the kick spot (``teamenv.league.kick_trial.kick_trial`` with
-``approach=False``): right foot with the ball on the spot, right foot with the ball 3 cm
-off it, left foot on the spot. Score per kick = the ball's travel along the body heading
-(capped at ``CAP`` m) - 0.1 m per degree of direction error, - 6 if the robot went down
-during or within ``--settle`` s after the kick (see below); - 10 per second the motion lasts beyond
-``MAX_KICK_S``. A fall costs less the later it comes (up to 4 of the 6 back for a robot that
-was still up 1 s after the motion), so the search can climb towards kicks that stay up. The search is CMA-ES (pycma) over ``BOX``, started at ``LEAGUE_KICK``, in one
-process (the machine is shared: run it under ``nice``).
+``approach=False``): each foot with the ball on the spot and 2 cm off it. Score per kick =
+the ball's travel along the asked direction (capped at ``CAP`` m) - 0.1 m per degree of
+direction error, - 8 if the robot went down during or within ``--settle`` s after the kick
+(a fall costs less the later it comes: up to 4 of the 8 back for a robot still up 1 s after
+the motion), - 10 per second the motion lasts beyond ``MAX_KICK_S`` + ``STANDING_START_S``
+(from standing the walker stands 0.5 s and steps once before the kicking foot can swing;
+the duration target itself is measured from a walking approach by
+``benchmarks/league_kick_trials.py``). The search is CMA-ES (pycma) over ``BOX``, started at
+``LEAGUE_KICK``, in one process (the machine is shared: run it under ``nice``).
 
     nice -n 10 python benchmarks/league_kick_tune.py --check           # LEAGUE_KICK's score
-    nice -n 10 python benchmarks/league_kick_tune.py --generations 8 --out kick.json
+    nice -n 10 python benchmarks/league_kick_tune.py --check --params '{"strike_hip": 0.6}'
+    nice -n 10 python benchmarks/league_kick_tune.py --generations 6 --out kick.json
 """
 
 from __future__ import annotations
@@ -28,35 +32,20 @@ from teamenv.league.kick_trial import kick_trial, spot_start
 
 #: the kick's target duration (s) and the travel that counts at most (m)
 MAX_KICK_S = 1.5
+STANDING_START_S = 0.8
 CAP = 12.0
 #: (foot, dx, dy): the tuning kicks (ball offset from the spot, m)
-KICKS = (("right", 0.0, 0.0), ("right", 0.03, -0.03), ("left", 0.0, 0.0))
+KICKS = (("right", 0.0, 0.0), ("right", 0.02, -0.02), ("left", 0.0, 0.0), ("left", -0.02, 0.02))
 BOX = {
-    "shift_roll": (0.0, 0.2),
-    "shift_s": (0.15, 0.45),
-    "sup_hip": (-0.3, 0.2),
-    "sup_ankle": (-0.2, 0.2),
-    "back_hip": (-0.2, 0.8),
-    "back_knee": (0.3, 1.8),
-    "back_ankle": (-0.6, 0.3),
-    "back_s": (0.12, 0.4),
-    "strike_hip": (-1.4, -0.3),
-    "strike_knee": (0.0, 0.8),
-    "strike_ankle": (-0.5, 0.3),
-    "strike_s": (0.06, 0.2),
-    "retract_s": (0.12, 0.4),
-    "land_s": (0.1, 0.4),
-    "land_hip": (-0.6, 0.2),
-    "land_knee": (0.0, 0.8),
-    "recover_s": (0.15, 0.5),
-    "spot_x": (0.24, 0.4),
-    "spot_y": (0.06, 0.2),
-    "gain_scale": (1.0, 3.5),
-    "kick_gain": (1.0, 4.0),
-    "tilt_gain": (-1.0, 1.5),
-    "rate_gain": (-0.1, 0.2),
-    "hip_roll_gain": (-1.0, 1.0),
-    "hip_pitch_gain": (-1.0, 1.0),
+    "spot_x": (0.42, 0.62),
+    "foot_y": (0.08, 0.14),
+    "strike_x": (0.34, 0.5),
+    "walk_vx": (0.1, 0.3),
+    "strike_hip": (0.2, 0.8),
+    "strike_knee": (0.0, 0.6),
+    "strike_from": (0.0, 0.3),
+    "strike_to": (0.6, 1.0),
+    "follow_s": (0.3, 0.8),
 }
 
 
@@ -70,8 +59,8 @@ def kick_score(params: KickParams, settle_s: float) -> tuple[float, list[dict]]:
         along = r.travel * math.cos(r.error)
         s = min(along, CAP) - 0.1 * abs(math.degrees(r.error)) * min(1.0, r.travel)
         if r.fell_during or not r.upright:   # the longer it stayed up, the less it costs
-            s -= 6.0 - 4.0 * min(1.0, r.upright_s / (r.kick_s + 1.0))
-        s -= 10.0 * max(0.0, r.kick_s - MAX_KICK_S)
+            s -= 8.0 - 4.0 * min(1.0, r.upright_s / (r.kick_s + 1.0))
+        s -= 10.0 * max(0.0, r.kick_s - MAX_KICK_S - STANDING_START_S)
         total += s
         rows.append({"foot": foot, "travel": round(r.travel, 2),
                      "error_deg": round(math.degrees(r.error), 1), "fell": r.fell_during,

@@ -158,7 +158,11 @@ class WalkerController:
             qvel[t1.act_dadr[k]] = js.velocity
         return qpos, qvel
 
-    def step(self, command: tuple[float, float, float], perception: Perception) -> str:
+    def step(self, command: tuple[float, float, float], perception: Perception,
+             adjust=None) -> str:
+        """``adjust(walker, motors, q_ref) -> q_ref``: a change of this cycle's joint targets
+        (motor names in ``motors``' order) before they are sent, e.g. a kick's strike on the
+        swing leg (``teamenv.league.kick``)."""
         if self.envelope is not None:
             command = self.envelope.limit(command)
         qpos, qvel = self._state(perception)
@@ -169,6 +173,8 @@ class WalkerController:
         for _ in range(self._substeps):
             q_ref = self._walker.update(np.asarray(command, dtype=float),
                                         obs if self.feedback else None)
+        if adjust is not None:
+            q_ref = adjust(self._walker, self._motors, q_ref)
         dq = np.zeros_like(q_ref)
         if self.velocity_feedforward and self._last_q is not None:
             dq = (q_ref - self._last_q) / CYCLE_S

@@ -1,39 +1,42 @@
-"""A kick for the T1 on the league server: a keyframe motion in joint space, tuned by CMA-ES on
-the server's own physics, and the approach that aims it.
+"""A kick for the T1 on the league server: a kick step of our walker (a balance-controlled
+kick), the approach that aims it, and the ball's place from the robot's own camera.
 
-**The motion** (``KickMotion``): start(perception, direction, power) / step(perception) ->
-motor effectors / done. It begins from the joint angles the robot measures (whatever the walk
-left) and moves through six keyframes, each reached by smooth (cosine) interpolation from the
-previous one, every motor held by the server's PD at ``KickParams.gain_scale`` x the T1 gains:
+**The motion** (``KickMotion``: start(perception, direction, power) / step(perception) ->
+motor effectors / done) walks on with ``WalkerController`` at ``KickParams.walk_vx`` and, on
+the first swing of the kicking foot that begins with the ball at most ``strike_x`` ahead,
+adds a strike to that swing leg's walk targets: the hip flexes by up to ``strike_hip`` and
+the knee extends by up to ``strike_knee`` (a sine bump over ``strike_from``-``strike_to`` of
+the single support), so the foot swings through the ball at ~2-3 m/s and comes back to the
+foothold the walker planned. Everything else is the walk's: the LIPM preview control, the
+capture-point step adjustment and the attitude feedback keep the robot up through and after
+the strike, which a keyframe kick on one foot did not (tuned keyframe kicks fell in nearly
+every trial on the server's physics; see docs/league.md). After the strike the walk goes on
+for ``follow_s`` with the command falling to zero, then the motion is done.
 
-1. shift: both hip rolls tilt the pelvis over the support foot (ankle rolls keep the feet flat);
-2. wind-up: the kicking leg lifts and swings back (hip pitch +, knee bent);
-3. strike: hip pitch forward, knee straight, within ``strike_s`` (the ball is hit here);
-4. retract and land: the kicking foot comes back under the hip and is set down, the weight
-   still on the support foot;
-5. recover: both legs to the stance, where the walk (or standing) takes over.
+It starts from whatever the walk left: with the encoder's own ``WalkerController`` it simply
+continues that gait (``KickMotion(walker)``); with another controller (e.g. the reference
+network) it starts its own walker from the measured pose, its first ``BLEND_S`` blended from
+the measured joint angles (the walker stands 0.5 s before its first step, so such a kick
+takes ~0.8 s longer).
 
-The kicking foot is the one on the ball's side; the left kick is the right kick mirrored
-(left <-> right, roll and yaw signs flipped).
-
-**Aiming.** The motion kicks along the body's heading (plus ``strike_yaw``: the kicking hip's
-yaw turns the foot by up to ``MAX_STRIKE_YAW`` to take off a small remaining heading error).
-The aim comes from the approach: ``approach_command`` walks the robot so that it faces the
-asked direction with the ball at the kick spot in front of the kicking foot
-(``KickParams.spot_x``, ``spot_y``), and ``in_kick_spot`` says when it is close enough to start.
-Limits: a kick goes where the body faces (so asking for 90 deg means turning first, ~1.5 s
-at the walker's 1 rad/s); the ball must lie still or nearly (a rolling ball drifts out of the
-spot between the decision and the strike, ~0.6 s); power scales the strike's swing (only
-full power is tuned and measured).
+**Aiming.** The ball goes where the body faces, deflected outwards by the foot's edge (by
+``aim_bias``, measured): ``kick_heading`` is the heading to face for a kick along a
+direction, and ``approach_command`` walks the robot there with the ball in front of the
+kicking foot (``spot_x`` ahead, ``foot_y`` to the side); ``in_kick_spot`` says when to start.
+During the motion the walk keeps turning towards the kick heading and stepping sideways to
+keep the ball in line. Limits: a kick goes where the body faces, so a direction far off the
+heading is a turn first (~1.5 s for 90 deg at the walker's turn rate); the ball must lie
+still or nearly (it is placed from memory in the last 0.55 m, below the camera's view);
+``power`` scales the strike (0.4 + 0.6 power of the amplitudes; only full power is tuned
+and measured).
 
 **The ball's place** comes from vision only (``BallTracker``): each ``See`` gives the ball's
 polar sighting from the head camera; the camera's pose follows from the torso's ``pos``/
 ``quat`` and the head's yaw/pitch joints (rcsssmj's T1: torso -> H1 -> H2 -> camera site), so
 the sighting becomes a world point, kept between sightings and turned into the body frame of
 the current torso pose. The head stays level (a pitched head would make the team's own
-sightings, which assume a level camera, wrong), so the ball leaves the camera's +-60 deg
-when it is nearer than ~0.55 m: the last ~0.3 m of the approach and the kick use the ball's
-remembered place (``KICK_SIGHTING_MAX_AGE_S`` in the adapter), which holds for a ball at rest.
+sightings, which assume a level camera, wrong), so the ball leaves the camera's +-60 deg when
+it is nearer than ~0.55 m: the end of the approach and the kick use its remembered place.
 """
 
 from __future__ import annotations
@@ -43,81 +46,39 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
-from locomotion.humanoid.t1 import PD_GAINS
-from locomotion.humanoid.t1 import STANCE as T1_STANCE
-
-from . import effectors
-from .controller import CYCLE_S, quat_yaw
+from .controller import CYCLE_S, WalkerController, quat_yaw
 from .errors import LeagueError
 from .perception import Perception
 from .t1 import T1_MOTORS, joint_sensor
 
 MOTORS: tuple[str, ...] = tuple(T1_MOTORS)
-_INDEX = {m: k for k, m in enumerate(MOTORS)}
-
-def _per_motor(table) -> np.ndarray:
-    return np.array([table(T1_MOTORS[m]) for m in MOTORS], dtype=float)
-
-
-def _gain(joint: str, which: int) -> float:
-    for frag, kp, kd in PD_GAINS:
-        if frag in joint:
-            return (kp, kd)[which]
-    raise LeagueError(f"kick: no PD gains for T1 joint {joint!r}")
-
-
-#: the T1's standing angles (rad) and PD gains per motor, from the walker's model
-STANCE_Q = _per_motor(lambda j: T1_STANCE.get(j, 0.0))
-KP = _per_motor(lambda j: _gain(j, 0))
-KD = _per_motor(lambda j: _gain(j, 1))
-
-#: the largest hip-yaw turn of the kicking foot used to take off a heading error (rad)
-MAX_STRIKE_YAW = 0.35
+#: the first seconds of a kick on a fresh walker blend from the measured joint angles
+BLEND_S = 0.2
 
 
 @dataclass(frozen=True)
 class KickParams:
-    """A right-foot kick (the left one is its mirror). Angles rad, times s, lengths m.
+    """A kick step (m, s, rad).
 
-    shift_roll: hip roll moving the pelvis over the support foot; shift_s: its time.
-    back_hip/back_knee/back_ankle: the kicking leg wound up; sup_hip/sup_ankle: the support
-    leg's pitch offsets while on one foot (lean); back_s: wind-up time.
-    strike_hip/strike_knee/strike_ankle: the kicking leg at the end of the strike; strike_s.
-    retract_s, land_s, recover_s: the kicking foot back under the hip; set down with the
-    weight still on the support foot (land_hip, land_knee: its hip pitch and knee offsets from
-    the stance there, the sole kept flat); both legs back to the stance.
-    spot_x, spot_y: where the ball should lie before the kick (torso frame: ahead, towards the
-    kicking side). gain_scale: PD gains x the T1's; kick_gain: x that again on the kicking hip
-    pitch and knee. tilt_gain, rate_gain: balance feedback,
-    the support ankle's roll and pitch targets move against the torso's measured tilt (rad)
-    and tilt rate (gyro, rad/s), which keeps the trunk over the support foot;
-    hip_roll_gain, hip_pitch_gain: the same on the support hip (rad per rad of tilt)."""
+    spot_x, foot_y: where the approach puts the ball (ahead of the torso; beside it, on the
+    kicking foot's side); strike_x: the strike starts on a kicking-foot swing that begins with
+    the ball at most this far ahead; walk_vx: walking speed while kicking; strike_hip,
+    strike_knee: the strike's hip flexion and knee extension (added to the walk's swing leg);
+    strike_from, strike_to: the strike's share of the single support; follow_s: walking after
+    the strike; max_wait_s: a kick whose strike has not begun by then ends without one;
+    aim_bias: the ball's measured outward deflection (the body faces this much inwards)."""
 
-    shift_roll: float = 0.12
-    shift_s: float = 0.386
-    sup_hip: float = 0.055
-    sup_ankle: float = -0.047
-    back_hip: float = -0.025
-    back_knee: float = 1.028
-    back_ankle: float = -0.421
-    back_s: float = 0.181
-    strike_hip: float = -0.676
-    strike_knee: float = 0.108
-    strike_ankle: float = -0.101
-    strike_s: float = 0.098
-    retract_s: float = 0.22
-    land_s: float = 0.255
-    land_hip: float = -0.2
-    land_knee: float = 0.2
-    recover_s: float = 0.269
-    spot_x: float = 0.29
-    spot_y: float = 0.115
-    gain_scale: float = 1.753
-    kick_gain: float = 2.0
-    tilt_gain: float = 0.7
-    rate_gain: float = 0.07
-    hip_roll_gain: float = -0.9
-    hip_pitch_gain: float = -0.8
+    spot_x: float = 0.5
+    foot_y: float = 0.115
+    strike_x: float = 0.42
+    walk_vx: float = 0.15
+    strike_hip: float = 0.5
+    strike_knee: float = 0.3
+    strike_from: float = 0.1
+    strike_to: float = 0.9
+    follow_s: float = 0.5
+    max_wait_s: float = 1.5
+    aim_bias: float = 0.18
 
     def with_(self, **kw: float) -> KickParams:
         return replace(self, **kw)
@@ -125,148 +86,140 @@ class KickParams:
     def as_dict(self) -> dict[str, float]:
         return {f.name: getattr(self, f.name) for f in fields(self)}
 
-    @property
-    def duration_s(self) -> float:
-        return (self.shift_s + self.back_s + self.strike_s + self.retract_s + self.land_s
-                + self.recover_s)
 
-
-#: the kick on the league server (see the module doc; tuning command in
-#: benchmarks/league_kick_tune.py)
+#: the kick on the league server (``benchmarks/league_kick_tune.py`` measures candidates:
+#: ``--check --params '{...}'``; see docs/league.md for how these were chosen)
 LEAGUE_KICK = KickParams()
 
 
-def _mirror(q: np.ndarray) -> np.ndarray:
-    """A pose mirrored left <-> right (rolls and yaws change sign, pitches do not)."""
-    out = q.copy()
-    for m, k in _INDEX.items():
-        if m.startswith(("l", "r")):
-            other = ("r" if m[0] == "l" else "l") + m[1:]
-            out[_INDEX[other]] = q[k]
-    for m, k in _INDEX.items():
-        joint = T1_MOTORS[m]
-        if joint.endswith(("_Roll", "_Yaw", "_yaw")) or joint == "Waist":
-            out[k] = -out[k]
-    return out
+def kick_foot(ball: tuple[float, float], direction: float) -> str:
+    """The foot on the ball's side of the kick line."""
+    c, s = math.cos(direction), math.sin(direction)
+    return "left" if -s * ball[0] + c * ball[1] > 0 else "right"
 
 
-def _keyframes(p: KickParams, power: float, strike_yaw: float) -> list[tuple[float, np.ndarray]]:
-    """(time to reach, pose) of a right-foot kick, after the start pose."""
-    stance = STANCE_Q
-
-    def pose(**angles: float) -> np.ndarray:
-        q = stance.copy()
-        for m, v in angles.items():
-            q[_INDEX[m]] += v
-        return q
-
-    # right kick: the pelvis moves left (+y) over the left foot: both feet go -y = hip roll -
-    shift = dict(lle2=-p.shift_roll, rle2=-p.shift_roll, lle6=p.shift_roll, rle6=p.shift_roll)
-    support = dict(shift, lle1=p.sup_hip, lle5=p.sup_ankle)
-    wound = pose(**support, rle1=p.back_hip, rle4=p.back_knee, rle5=p.back_ankle)
-    strike_hip = p.back_hip + power * (p.strike_hip - p.back_hip)
-    struck = pose(**support, rle1=strike_hip, rle4=p.strike_knee, rle5=p.strike_ankle,
-                  rle3=strike_yaw)
-    retracted = pose(**support, rle1=-0.25, rle4=0.6, rle5=-0.3)
-    # set down where it catches the trunk (ahead: a step against the strike's forward lean),
-    # the sole flat: ankle pitch = -(hip + knee) offsets
-    landed = pose(**support, rle1=p.land_hip, rle4=p.land_knee, rle5=-(p.land_hip + p.land_knee))
-    return [(p.shift_s, pose(**shift)),
-            (p.back_s, wound),
-            (p.strike_s, struck),
-            (p.retract_s, retracted),
-            (p.land_s, landed),
-            (p.recover_s, stance)]
+def kick_heading(direction: float, foot: str, params: KickParams = LEAGUE_KICK) -> float:
+    """The body heading (body frame, rad) that sends the ball along ``direction``: turned
+    inwards by ``aim_bias`` against the kicking foot's outward deflection."""
+    return direction + (params.aim_bias if foot == "right" else -params.aim_bias)
 
 
 class KickMotion:
-    """One kick at a time: ``start`` it, then ``step`` every cycle until ``done``."""
+    """One kick at a time: ``start`` it, then ``step`` every cycle until ``done``.
 
-    def __init__(self, params: KickParams = LEAGUE_KICK) -> None:
+    ``walker``: the ``WalkerController`` the robot walks with (its gait goes on through the
+    kick); None: the kick brings its own, started from the measured pose."""
+
+    def __init__(self, walker: WalkerController | None = None,
+                 params: KickParams = LEAGUE_KICK) -> None:
         self.params = params
-        self._frames: list[tuple[float, np.ndarray]] = []
-        self._t = 0.0
-        self._from: np.ndarray | None = None
-        self.foot: str | None = None
+        self.shares_walker = walker is not None
+        self.walker = walker if walker is not None else WalkerController()
         self.done = True
+        self.foot: str | None = None
+        self.struck = False
+        self.strike_ball_x: float | None = None
+        self._t = 0.0
+        self._strike_t: float | None = None
+        self._ball_world: np.ndarray | None = None
+        self._heading_world = 0.0
+        self._amplitude = 1.0
+        self._from: np.ndarray | None = None
 
     def start(self, perception: Perception, direction: float = 0.0, power: float = 1.0,
               foot: str | None = None, ball: tuple[float, float] | None = None) -> None:
-        """Begin a kick from the measured joint angles. ``direction`` (rad, body frame): the
-        part within +-MAX_STRIKE_YAW turns the kicking foot (the approach aims the rest);
-        ``power`` 0-1; ``foot`` "left"/"right" (default: the ball's side, from ``ball`` =
-        its body-frame (x, y), else right)."""
-        if not 0.0 <= power <= 1.0 or not math.isfinite(power):
+        """Begin a kick along ``direction`` (rad, body frame) with ``power`` 0-1; ``ball``: its
+        body-frame (x, y) m (where the approach put it); ``foot``: "left"/"right" (default:
+        the ball's side of the kick line)."""
+        if not math.isfinite(power) or not 0.0 <= power <= 1.0:
             raise LeagueError(f"kick: power {power!r} is not in 0..1")
         if not math.isfinite(direction):
             raise LeagueError(f"kick: direction {direction!r} is not finite")
+        if ball is None:
+            raise LeagueError("kick: start() needs the ball's body-frame place (ball=(x, y))")
         if foot is None:
-            foot = "left" if ball is not None and ball[1] > 0 else "right"
+            foot = kick_foot(ball, direction)
         if foot not in ("left", "right"):
             raise LeagueError(f"kick: foot {foot!r} is not 'left' or 'right'")
-        yaw = float(np.clip(direction, -MAX_STRIKE_YAW, MAX_STRIKE_YAW))
-        # the right foot's yaw turns it; mirrored for the left foot (the mirror flips yaw)
-        frames = _keyframes(self.params, power, yaw if foot == "right" else -yaw)
-        if foot == "left":
-            frames = [(t, _mirror(q)) for t, q in frames]
-        self._frames = frames
-        self._from = measured_angles(perception)
-        scale = np.full(len(MOTORS), self.params.gain_scale)
-        for m in (("rle1", "rle4") if foot == "right" else ("lle1", "lle4")):
-            scale[_INDEX[m]] *= self.params.kick_gain     # the striking hip and knee
-        self._kp, self._kd = KP * scale, KD * np.sqrt(scale)
-        self._t = 0.0
+        x, y, _ = perception.positions["torso_pos"]
+        yaw = quat_yaw(*perception.orientations["torso_quat"])
+        c, s = math.cos(yaw), math.sin(yaw)
+        self._ball_world = np.array([x + c * ball[0] - s * ball[1], y + s * ball[0] + c * ball[1]])
+        self._heading_world = yaw + kick_heading(direction, foot, self.params)
+        self._amplitude = 0.4 + 0.6 * power
         self.foot = foot
+        self.struck = False
+        self.strike_ball_x = None
+        self._strike_t = None
+        self._t = 0.0
+        self._from = None
+        if not self.shares_walker:
+            self.walker.reset()
+            self._from = measured_angles(perception)
         self.done = False
 
-    def targets(self) -> np.ndarray:
-        """The joint targets at the current time of the motion."""
-        return self._reference()[0]
+    @property
+    def elapsed_s(self) -> float:
+        return self._t
 
-    def _reference(self) -> tuple[np.ndarray, np.ndarray]:
-        """The joint targets and their rates (rad, rad/s) at the current time of the motion."""
-        assert self._from is not None
-        prev, t = self._from, self._t
-        for dur, q in self._frames:
-            if t < dur:
-                s = 0.5 - 0.5 * math.cos(math.pi * t / dur)
-                rate = 0.5 * math.pi / dur * math.sin(math.pi * t / dur)
-                return prev + s * (q - prev), rate * (q - prev)
-            t -= dur
-            prev = q
-        return prev, np.zeros_like(prev)
+    def _command(self, perception: Perception) -> tuple[float, float, float]:
+        p = self.params
+        bx, by = to_body(perception, self._ball_world)
+        yaw = quat_yaw(*perception.orientations["torso_quat"])
+        err = math.remainder(self._heading_world - yaw, 2 * math.pi)
+        turn = float(np.clip(1.2 * err, -0.4, 0.4))
+        if self._strike_t is not None:      # after the strike: slow down to a stop
+            left = max(0.0, 1.0 - (self._t - self._strike_t) / max(p.follow_s, 1e-6))
+            return p.walk_vx * left, 0.0, turn * left
+        side = 1.0 if self.foot == "left" else -1.0
+        vy = float(np.clip(1.5 * (by - side * p.foot_y), -0.08, 0.08))
+        return p.walk_vx, vy, turn
+
+    def _strike(self, walker, motors, q_ref: np.ndarray) -> np.ndarray:
+        """The strike added to the kicking leg's walk targets (``WalkerController.step``)."""
+        p = self.params
+        swing = "Left" if self.foot == "left" else "Right"
+        ss = walker.p.step_period - walker.p.double_support
+        if (self._strike_t is None and walker.swing == swing
+                and 0.0 < walker.t_step <= CYCLE_S + walker.p.dt + 1e-9   # began this cycle
+                and to_body(self._perception, self._ball_world)[0] <= p.strike_x):
+            self._strike_t = self._t       # this swing is the kick
+            self.strike_ball_x = to_body(self._perception, self._ball_world)[0]
+        if self._strike_t is None or self.struck or walker.swing != swing:
+            return q_ref
+        u = (walker.t_step / ss - p.strike_from) / (p.strike_to - p.strike_from)
+        if walker.t_step / ss >= 1.0:
+            self.struck = True
+            return q_ref
+        bump = math.sin(math.pi * min(1.0, max(0.0, u))) * self._amplitude
+        leg = "lle" if self.foot == "left" else "rle"
+        q = q_ref.copy()
+        q[motors.index(f"{leg}1")] -= p.strike_hip * bump
+        k = motors.index(f"{leg}4")
+        q[k] = max(0.0, q[k] - p.strike_knee * bump)
+        return q
 
     def step(self, perception: Perception) -> str:
         if self.done:
             raise LeagueError("kick: step() without a running kick (start() it first)")
         self._t += CYCLE_S
-        q, dq = self._reference()
-        roll, pitch = torso_tilt(perception)
-        gyro = perception.gyros.get("torso_gyro", (0.0, 0.0, 0.0))
+        self._perception = perception
+        message = self.walker.step(self._command(perception), perception, adjust=self._blend)
         p = self.params
-        ankle_roll, ankle_pitch = ("lle6", "lle5") if self.foot == "right" else ("rle6", "rle5")
-        # a positive ankle angle turns the shank back towards -roll / -pitch (foot on the ground)
-        q[_INDEX[ankle_roll]] += p.tilt_gain * roll + p.rate_gain * gyro[0]
-        q[_INDEX[ankle_pitch]] += p.tilt_gain * pitch + p.rate_gain * gyro[1]
-        hip_roll, hip_pitch = ("lle2", "lle1") if self.foot == "right" else ("rle2", "rle1")
-        q[_INDEX[hip_roll]] += p.hip_roll_gain * roll
-        q[_INDEX[hip_pitch]] += p.hip_pitch_gain * pitch
-        if self._t >= sum(d for d, _ in self._frames) - 1e-9:
+        if self._strike_t is None and self._t >= p.max_wait_s:
+            self.done = True                # the strike never began (the ball moved away)
+        elif self._strike_t is not None and self.struck and \
+                self._t - self._strike_t >= p.follow_s + 0.3:
             self.done = True
-        # the targets' own rates go out as the PD's dq: the damping follows the motion instead
-        # of braking it (a fast strike lags its keyframes by ~0.1 s without)
-        kp, kd = self._kp, self._kd
-        return effectors.message(*(
-            effectors.motor(m, float(q[k]), float(dq[k]), float(kp[k]), float(kd[k]))
-            for k, m in enumerate(MOTORS)))
+        return message
 
-
-def torso_tilt(perception: Perception) -> tuple[float, float]:
-    """The torso's roll and pitch (rad) from its ``quat`` perceptor."""
-    w, x, y, z = perception.orientations["torso_quat"]
-    roll = math.atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))
-    pitch = math.asin(max(-1.0, min(1.0, 2 * (w * y - z * x))))
-    return roll, pitch
+    def _blend(self, walker, motors, q_ref: np.ndarray) -> np.ndarray:
+        q = self._strike(walker, motors, q_ref)
+        if self._from is not None and self._t < BLEND_S:
+            start = np.array([self._from[MOTORS.index(m)] for m in motors])
+            w = self._t / BLEND_S
+            q = start + w * (q - start)
+        return q
 
 
 def measured_angles(perception: Perception) -> np.ndarray:
@@ -360,58 +313,54 @@ class BallTracker:
 
 
 # -- the approach that aims the kick ---------------------------------------------------------
-#: how close to the kick spot (m) and to the asked heading (rad) the robot must be to kick
-SPOT_TOLERANCE_X = 0.07
-SPOT_TOLERANCE_Y = 0.05
+#: how close to the kick spot (m: along the kick, sideways) and to the kick heading (rad) the
+#: robot must be to start the kick (the kick then walks on and corrects as it goes)
+SPOT_TOLERANCE_X = 0.12
+SPOT_TOLERANCE_Y = 0.03
 HEADING_TOLERANCE = 0.12
-
-
-def kick_foot(ball: tuple[float, float]) -> str:
-    """The foot on the ball's side."""
-    return "left" if ball[1] > 0 else "right"
 
 
 def spot_error(ball: tuple[float, float], direction: float,
                params: KickParams = LEAGUE_KICK) -> tuple[float, float, float]:
-    """How far the robot is from kicking ``ball`` (body frame) along ``direction``: the ball's
-    offset from the kick spot in the frame turned by ``direction`` (ahead, left), and the
-    heading error (rad)."""
-    c, s = math.cos(direction), math.sin(direction)
+    """How far the robot is from starting a kick of ``ball`` (body frame) along
+    ``direction``: the ball's offset from the kick spot in the body frame turned to the kick
+    heading (ahead, left), and the heading error (rad)."""
+    foot = kick_foot(ball, direction)
+    heading = kick_heading(direction, foot, params)
+    c, s = math.cos(heading), math.sin(heading)
     bx, by = c * ball[0] + s * ball[1], -s * ball[0] + c * ball[1]
-    side = 1.0 if by > 0 else -1.0
-    return bx - params.spot_x, by - side * params.spot_y, direction
+    side = 1.0 if foot == "left" else -1.0
+    return bx - params.spot_x, by - side * params.foot_y, heading
 
 
 def in_kick_spot(ball: tuple[float, float], direction: float,
                  params: KickParams = LEAGUE_KICK) -> bool:
     ex, ey, eh = spot_error(ball, direction, params)
-    return (abs(ex) <= SPOT_TOLERANCE_X and abs(ey) <= SPOT_TOLERANCE_Y
+    return (-SPOT_TOLERANCE_X <= ex <= 0.05 and abs(ey) <= SPOT_TOLERANCE_Y
             and abs(eh) <= HEADING_TOLERANCE)
 
 
 def approach_command(ball: tuple[float, float], direction: float,
                      params: KickParams = LEAGUE_KICK,
-                     speed: float = 0.35) -> tuple[float, float, float]:
-    """A walk command (vx, vy, turn; body frame) that brings the kick spot onto ``ball`` while
-    turning to face ``direction``: far away it walks at the ball and turns, near it it
-    steps sideways/back into the spot (a proportional controller in the direction's frame,
-    with the heading turned first when the error is large)."""
-    ex, ey, eh = spot_error(ball, direction, params)
-    dist = math.hypot(ball[0], ball[1])
-    turn = float(np.clip(1.5 * eh, -0.8, 0.8))
-    if dist > 0.9:
-        # far: walk to a point behind the ball on the kick line
-        c, s = math.cos(direction), math.sin(direction)
-        tx = ball[0] - c * (params.spot_x + 0.25)
-        ty = ball[1] - s * (params.spot_x + 0.25)
-        head = math.atan2(ty, tx)
-        turn = float(np.clip(1.5 * head, -0.8, 0.8))
-        vx = speed * max(0.0, math.cos(head))
-        return vx, 0.0, turn
-    # near: correct along the kick frame, rotated back into the body frame
-    c, s = math.cos(direction), math.sin(direction)
-    ux = float(np.clip(1.2 * ex, -0.2, 0.25))
-    uy = float(np.clip(1.5 * ey, -0.12, 0.12))
-    if abs(eh) > 0.4:   # turn first when the heading is far off (sideways walking is slow)
-        ux, uy = min(ux, 0.0) * 0.5, uy * 0.5
-    return c * ux - s * uy, s * ux + c * uy, turn
+                     speed: float = 0.3) -> tuple[float, float, float]:
+    """A walk command (vx, vy, turn; body frame) to the kick spot: the torso's goal is
+    ``spot_x`` behind the ball along the kick heading and ``foot_y`` to the side of the
+    kicking foot; it faces the goal while far and the kick heading when near (blended in
+    between), slowing its translation while the heading is far off; gains and limits stay
+    inside what the walker follows without falling (it falls under large sideways steps and
+    fast command reversals)."""
+    foot = kick_foot(ball, direction)
+    heading = kick_heading(direction, foot, params)
+    side = 1.0 if foot == "left" else -1.0
+    c, s = math.cos(heading), math.sin(heading)
+    gx = ball[0] - (c * params.spot_x - s * side * params.foot_y)
+    gy = ball[1] - (s * params.spot_x + c * side * params.foot_y)
+    dist = math.hypot(gx, gy)
+    far = min(1.0, max(0.0, (dist - 0.25) / 0.5))       # 1 beyond 0.75 m, 0 within 0.25 m
+    toward = math.atan2(gy, gx) if dist > 1e-6 else heading
+    aim = far * toward + (1.0 - far) * heading
+    turn = float(np.clip(1.2 * aim, -0.6, 0.6))
+    slow = max(0.0, 1.0 - abs(aim) / 0.8)               # turn first when far off
+    vx = float(np.clip(1.5 * gx, -0.15, speed)) * slow
+    vy = float(np.clip(1.5 * gy, -0.1, 0.1)) * slow
+    return vx, vy, turn

@@ -33,6 +33,8 @@ from .observation import is_fallen
 #: is seen (the server applies a message's motor commands in order: this one overrides the
 #: walk controller's head target)
 LOOK_DOWN = 0.6
+#: after the kick the walk goes on on the spot this long before the robot stands (s)
+WIND_DOWN_S = 1.0
 #: where the ball lies (world, m): inside the left half, far from lines and the centre circle,
 #: so a 10 m kick along +-45 deg stays on the field and no referee rule moves the ball
 BALL = (-6.0, 0.0)
@@ -44,7 +46,7 @@ class KickTrial:
     it came to rest (or ``settle_s`` after the kick); direction: its world heading (rad);
     error: direction - target_yaw (rad, wrapped); upright: not down at the end of the trial
     (``observation.torso_down``); fell_during: down at any time after the kick began;
-    kick_s: the motion's duration; approach_s: walking time before the kick; upright_s: time
+    kick_s: the motion's duration (from its start to the end of the walk after the strike); approach_s: walking time before the kick; upright_s: time
     from the kick's start to the first cycle down (the whole watch if never)."""
 
     kicked: bool
@@ -57,6 +59,7 @@ class KickTrial:
     approach_s: float
     foot: str | None
     upright_s: float = 0.0
+    strike_ball_x: float | None = None
 
 
 def _wrap(a: float) -> float:
@@ -87,7 +90,7 @@ def kick_trial(start: tuple[float, float, float], target_yaw: float = 0.0, power
         # a level camera's view; a match's robot has seen it on its way there)
         p = server.cycle({key: walker.stand(p) + effectors.motor("he2", LOOK_DOWN, 0.0, 20.0,
                                                                    0.5)})[key]
-    kick = KickMotion(params)
+    kick = KickMotion(walker if isinstance(walker, WalkerController) else None, params)
     walked = 0
     while True:
         rel = tracker.update(p)
@@ -111,10 +114,13 @@ def kick_trial(start: tuple[float, float, float], target_yaw: float = 0.0, power
         fell |= is_fallen(p)
         cycles += 1
         watched += not fell
-    walker.reset()
     last = np.array(server.ball_position()[:2])
-    for _ in range(round(settle_s / CYCLE_S)):
-        p = server.cycle({key: walker.stand(p)})[key]
+    for k in range(round(settle_s / CYCLE_S)):
+        # the walk the kick leaves winds down for a second, then the robot stands
+        command = kick.walker if kick.shares_walker else walker
+        msg = command.step((0.0, 0.0, 0.0), p) if k < round(WIND_DOWN_S / CYCLE_S) \
+            else walker.stand(p)
+        p = server.cycle({key: msg})[key]
         fell |= is_fallen(p)
         watched += not fell
         now = np.array(server.ball_position()[:2])
@@ -126,7 +132,7 @@ def kick_trial(start: tuple[float, float, float], target_yaw: float = 0.0, power
     heading = math.atan2(d[1], d[0])
     return KickTrial(True, float(np.hypot(*d)), heading, _wrap(heading - target_yaw),
                      not is_fallen(p), fell, cycles * CYCLE_S, walked * CYCLE_S, kick.foot,
-                     watched * CYCLE_S)
+                     watched * CYCLE_S, kick.strike_ball_x)
 
 
 def spot_start(params: KickParams = LEAGUE_KICK, foot: str = "right", dx: float = 0.0,
@@ -134,4 +140,4 @@ def spot_start(params: KickParams = LEAGUE_KICK, foot: str = "right", dx: float 
     """The beam pose (world x, y, yaw 0) that puts ``ball`` at the kick spot of ``foot``,
     offset by (dx, dy) m (ball further ahead / more to the left)."""
     side = -1.0 if foot == "right" else 1.0
-    return (ball[0] - params.spot_x - dx, ball[1] - side * params.spot_y - dy, 0.0)
+    return (ball[0] - params.spot_x - dx, ball[1] - side * params.foot_y - dy, 0.0)
