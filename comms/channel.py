@@ -9,6 +9,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+import portable_math as pm
 from comms.errors import ChannelError
 from comms.profiles import REASON_BAD_VOLUME, ChannelProfile, HearingCapacity, get_profile
 
@@ -181,8 +182,8 @@ def received_volume(
     (RCSSServerMJ: 6 dB, 1 m, i.e. roughly volume / distance).
     """
     d = np.maximum(np.asarray(distance_m, dtype=np.float64), reference_m)
-    return np.asarray(volume, dtype=np.float64) * 10.0 ** (
-        -db_per_doubling * np.log2(d / reference_m) / 20.0
+    return np.asarray(volume, dtype=np.float64) * pm.power(
+        10.0, -db_per_doubling * pm.log2(d / reference_m) / 20.0
     )
 
 
@@ -201,8 +202,8 @@ def loss_probability(
     """
     rec = np.asarray(received, dtype=np.float64)
     with np.errstate(divide="ignore"):
-        d_eff = reference_m * 2.0 ** (-20.0 * np.log10(rec / max_volume) / db_per_doubling)
-    return 0.5 * np.tanh(math.pi * d_eff / midpoint_m - math.pi) + 0.5
+        d_eff = reference_m * pm.exp2(-20.0 * pm.log10(rec / max_volume) / db_per_doubling)
+    return 0.5 * pm.tanh(math.pi * d_eff / midpoint_m - math.pi) + 0.5
 
 
 def hearing_capacity_trace(
@@ -497,14 +498,14 @@ class Channel:
                 audible = ~is_self
             att = prof.attenuation_db_per_doubling
             ref = prof.reference_distance_m
-            doublings = np.log2(np.maximum(dist, ref) * (1.0 / ref))
-            vol_term = (20.0 / att) * np.log10(np.asarray(volumes) * (1.0 / prof.max_volume))
-            d_eff = ref * np.exp2(doublings - vol_term[:, None])
+            doublings = pm.log2(np.maximum(dist, ref) * (1.0 / ref))
+            vol_term = (20.0 / att) * pm.log10(np.asarray(volumes) * (1.0 / prof.max_volume))
+            d_eff = ref * pm.exp2(doublings - vol_term[:, None])
             order = np.argsort(np.where(audible, d_eff, np.inf), axis=0, kind="stable")
             rank = np.argsort(order, axis=0)  # inverse permutation, column by column
             loud = audible & (rank < prof.always_heard)
             if math.isfinite(prof.loss_midpoint_m):
-                p_loss = 0.5 * np.tanh(d_eff * (math.pi / prof.loss_midpoint_m) - math.pi) + 0.5
+                p_loss = 0.5 * pm.tanh(d_eff * (math.pi / prof.loss_midpoint_m) - math.pi) + 0.5
                 survive = audible & (loud | (rng.random(dist.shape) >= p_loss))
             else:
                 survive = audible
@@ -594,7 +595,7 @@ class Channel:
         grouped: bool = False,
     ) -> Delivery:
         """Build the Heard lists from (speaker slot, listener) pairs sorted per listener."""
-        ang = np.arctan2(rel[1][si, li], rel[0][si, li]) - hd[li]
+        ang = pm.arctan2(rel[1][si, li], rel[0][si, li]) - hd[li]
         ang = (ang + math.pi) % _TWO_PI - math.pi
         q = self.profile.direction_quantum_deg
         if q > 0.0:

@@ -6,6 +6,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+import portable_math as pm
+
 from .errors import StepInputError
 from .profile import Profile
 from .walk import apply_envelope, compose, omni_displacement, track
@@ -216,7 +218,7 @@ class Bodies:
             fell_any = bool(np.count_nonzero(fell))
         if self._pushed:
             spd = np.hypot(self._push[:, 0], self._push[:, 1])
-            thr = self.push_threshold(np.arctan2(self._push[:, 1], self._push[:, 0]))
+            thr = self.push_threshold(pm.arctan2(self._push[:, 1], self._push[:, 0]))
             fell = fell | (up & (spd >= thr) & (spd > 0.0))
             fell_any = bool(np.count_nonzero(fell))
             self._push[:] = 0.0

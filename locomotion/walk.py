@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+import portable_math as pm
+
 __all__ = ["omni_displacement", "compose", "track", "apply_envelope"]
 
 
@@ -110,9 +112,9 @@ def apply_envelope(
         norm = np.sqrt(np.einsum("ij,ij->i", u, u))
     else:
         ux = vel[:, 0] / np.where(vel[:, 0] >= 0.0, vx_fwd, vx_back)
-        norm = (
-            np.abs(ux) ** p + np.abs(vel[:, 1] / vy_max) ** p + np.abs(vel[:, 2] / w_max) ** p
-        ) ** (1.0 / p)
+        norm = pm.power(
+            pm.power(np.abs(ux), p) + pm.power(np.abs(vel[:, 1] / vy_max), p)
+            + pm.power(np.abs(vel[:, 2] / w_max), p), 1.0 / p)
     scale = 1.0 / np.maximum(norm, 1.0)
     return vel * scale[:, None]
 
@@ -122,6 +124,5 @@ def envelope_norm(
 ) -> np.ndarray:
     """Envelope norm ``||u||_p`` of each velocity (<= 1 inside the envelope); see apply_envelope."""
     ux = vel[:, 0] / np.where(vel[:, 0] >= 0.0, vx_fwd, vx_back)
-    return (np.abs(ux) ** p + np.abs(vel[:, 1] / vy_max) ** p + np.abs(vel[:, 2] / w_max) ** p) ** (
-        1.0 / p
-    )
+    return pm.power(pm.power(np.abs(ux), p) + pm.power(np.abs(vel[:, 1] / vy_max), p)
+                    + pm.power(np.abs(vel[:, 2] / w_max), p), 1.0 / p)

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+import portable_math as pm
 from teamenv.config import PhysicsConfig
 
 MAX_ROLL_S = 20.0
@@ -79,7 +80,7 @@ class BallRoll:
         a, c = self.linear_drag, self.rolling_decel
         if a > 1e-9:
             v_inf = c / a
-            return (speed + v_inf) * (1.0 - np.exp(-a * t)) / a - v_inf * t
+            return (speed + v_inf) * (1.0 - pm.exp(-a * t)) / a - v_inf * t
         return speed * t - 0.5 * c * t * t
 
     def positions(self, ball: NDArray[np.float64], velocity: NDArray[np.float64],

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+import portable_math as pm
 from teamenv.errors import ConfigError
 from teamenv.field import FieldSpec
 
@@ -173,8 +174,8 @@ def to_polar(points: NDArray[np.floating], x: float, y: float, heading: float,
     ground = np.hypot(fwd, left)
     out = np.empty((len(p), 3))
     out[:, 0] = np.sqrt(ground * ground + dz * dz)
-    out[:, 1] = np.arctan2(left, fwd)
-    out[:, 2] = np.arctan2(dz, ground)
+    out[:, 1] = pm.arctan2(left, fwd)
+    out[:, 2] = pm.arctan2(dz, ground)
     return out
 
 

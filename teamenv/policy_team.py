@@ -47,6 +47,7 @@ from typing import Any
 
 import numpy as np
 
+import portable_math as pm
 from teamenv.actions import BOX_SIZE
 from teamenv.errors import ConfigError
 from teamenv.field import FieldSpec
@@ -89,7 +90,7 @@ def approach_ball(obs_batch: np.ndarray, actions: np.ndarray, gate_m: float) -> 
     otherwise) on rows whose state-mode observation puts the ball farther than ``gate_m``,
     zero (stand for the kick) on the others."""
     rel = np.asarray(obs_batch, dtype=np.float64)[:, _BALL_REL]
-    bearing = np.arctan2(rel[:, 1], rel[:, 0])
+    bearing = pm.arctan2(rel[:, 1], rel[:, 0])
     far = np.hypot(rel[:, 0], rel[:, 1]) > gate_m
     actions = actions.copy()
     actions[:, 0] = np.where(far, np.where(np.abs(bearing) < 0.6, 1.0, 0.2), 0.0)
@@ -209,7 +210,7 @@ class MLPPolicy:
             x = np.clip(x, -self.obs_clip, self.obs_clip)
         hidden, last = ACTIVATIONS[self.activation], len(self.layers) - 1
         for k, (w, b) in enumerate(self.layers):
-            x = x @ w + b
+            x = pm.matmul(x, w) + b
             x = ACTIVATIONS[self.output_activation](x) if k == last else hidden(x)
         return np.clip(x, -1.0, 1.0)
 

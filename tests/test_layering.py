@@ -1,4 +1,5 @@
-"""The import rules of DESIGN.md: strategy -> teamenv -> {locomotion, comms}; teams are plugins."""
+"""The import rules of DESIGN.md: strategy -> teamenv -> {locomotion, comms} -> portable_math;
+teams are plugins."""
 
 import ast
 from pathlib import Path
@@ -27,9 +28,15 @@ def top(name: str) -> str:
 
 @pytest.mark.parametrize("leaf", ["comms", "locomotion"])
 def test_leaves_import_nothing_of_ours(leaf):
+    # ... but the portable float math below every package (same bits on every CPU)
     ours = {"comms", "locomotion", "teamenv", "strategy"} - {leaf}
     for path, names in imports_of(leaf).items():
         assert not {top(n) for n in names} & ours, path
+
+
+def test_portable_math_imports_only_numpy():
+    for path, names in imports_of("portable_math").items():
+        assert {top(n) for n in names} <= {"__future__", "typing", "numpy"}, path
 
 
 def test_teamenv_never_imports_strategy():

@@ -8,6 +8,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+import portable_math as pm
 from strategy.behaviours.control import ControlRequest
 from strategy.behaviours.motion import go_to
 from strategy.behaviours.skills import Skills
@@ -41,8 +42,8 @@ def approach_ball(wm: WorldModel, aim: ArrayLike, skills: Skills,
     aim_angle = math.atan2(u[1], u[0])
     heading_error = wrap_angle(aim_angle - wm.heading)
     # How far the agent is behind the ball along the aim line (> 0: on the right side).
-    behind = -float((wm.position - ball) @ u)
-    lateral = abs(float((wm.position - ball) @ np.array([-u[1], u[0]])))
+    behind = -float(pm.matmul(wm.position - ball, u))
+    lateral = abs(float(pm.matmul(wm.position - ball, np.array([-u[1], u[0]]))))
     ball_bearing = abs(wrap_angle(math.atan2(to_ball[1], to_ball[0]) - wm.heading)) if dist > 1e-6 \
         else 0.0
     lined_up = (dist <= skills.kick_reach * 0.95 and ball_bearing < 1.2
@@ -64,7 +65,7 @@ def approach_ball(wm: WorldModel, aim: ArrayLike, skills: Skills,
     if behind < 0.1 and dist < 1.2:
         # In front of the ball: walk round it on the near side, not through it.
         side = np.array([-u[1], u[0]])
-        if float((wm.position - ball) @ side) < 0:
+        if float(pm.matmul(wm.position - ball, side)) < 0:
             side = -side
         spot = ball + side * 0.6 - u * 0.3
         return go_to(wm, spot, skills, face=ball, avoid=False, behaviour=behaviour), False
@@ -95,7 +96,7 @@ def dribble_aim(wm: WorldModel, target: ArrayLike, blocked_m: float = 1.5) -> ND
         return t
     rel = opps - wm.ball
     dist = np.hypot(rel[:, 0], rel[:, 1])
-    bearing = np.abs(np.arctan2(rel[:, 1], rel[:, 0]) - base)
+    bearing = np.abs(pm.arctan2(rel[:, 1], rel[:, 0]) - base)
     bearing = np.minimum(bearing, 2 * math.pi - bearing)
     if not ((dist < blocked_m) & (bearing < 0.6)).any():
         return t
@@ -103,8 +104,8 @@ def dribble_aim(wm: WorldModel, target: ArrayLike, blocked_m: float = 1.5) -> ND
     for offset in (0.52, -0.52, 1.05, -1.05):
         angle = base + offset
         u = np.array([math.cos(angle), math.sin(angle)])
-        ahead = rel @ u
-        side = np.abs(rel @ np.array([-u[1], u[0]]))
+        ahead = pm.matmul(rel, u)
+        side = np.abs(pm.matmul(rel, np.array([-u[1], u[0]])))
         gap = float(np.min(np.where(ahead > 0, side + 0.3 * ahead, np.inf)))
         edge = wm.field.half_width - abs(wm.ball[1] + 2.0 * u[1])
         if edge < 0.5:
@@ -263,9 +264,9 @@ def clear_ball(wm: WorldModel, skills: Skills) -> ControlRequest:
 def _min_distance_to_segment(points: NDArray[np.float64], a: NDArray[np.float64],
                              b: NDArray[np.float64]) -> float:
     seg = b - a
-    length2 = float(seg @ seg)
+    length2 = float(pm.matmul(seg, seg))
     if length2 < 1e-12:
         return float(np.min(np.hypot(*(points - a).T)))
-    s = np.clip((points - a) @ seg / length2, 0.0, 1.0)
+    s = np.clip(pm.matmul(points - a, seg) / length2, 0.0, 1.0)
     closest = a + s[:, None] * seg
     return float(np.min(np.hypot(*(points - closest).T)))

@@ -29,6 +29,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.special import ndtr
 
+import portable_math as pm
 from strategy.perception.worldmodel import WorldModel
 from teamenv.capabilities import BodyCapabilities
 
@@ -102,9 +103,9 @@ def goal_chances(half_length: float, half_goal_width: float, balls: NDArray[np.f
     dx = half_length - balls[:, 0]
     ahead = dx > 0
     dx = np.where(ahead, dx, 1.0)
-    to_aim = np.arctan2(aims[:, 1] - balls[:, 1], aims[:, 0] - balls[:, 0])
-    low = np.arctan2(-half_goal_width + 0.15 - balls[:, 1], dx)
-    high = np.arctan2(half_goal_width - 0.15 - balls[:, 1], dx)
+    to_aim = pm.arctan2(aims[:, 1] - balls[:, 1], aims[:, 0] - balls[:, 0])
+    low = pm.arctan2(-half_goal_width + 0.15 - balls[:, 1], dx)
+    high = pm.arctan2(half_goal_width - 0.15 - balls[:, 1], dx)
     aim_sd = max(body.kick_aim_sd_rad, 1e-9)
     p_aim = ndtr((high - to_aim) / aim_sd) - ndtr((low - to_aim) / aim_sd)
     needed = np.hypot(dx, balls[:, 1]) / np.maximum(powers, 1e-6)
@@ -158,13 +159,13 @@ def best_kick(wm: WorldModel, body: BodyCapabilities, walk_speed: float,
     margin = np.clip(theirs - ours, -10.0, 10.0)
     blocked = _lane_blocked(ball, landing, wm.opponents[wm.opponents_present])
     margin = np.where(blocked, -3.0, margin)
-    value = possession_weight * np.tanh(margin / 2.0) \
+    value = possession_weight * pm.tanh(margin / 2.0) \
         + progress_weight * (landing[:, 0] - ball[0])
     # a shot through a crowd still has its chance (deflections): halved, not lost
     p_goal = goal_chances(f.half_length, f.half_goal_width, np.broadcast_to(ball, end.shape),
                           end, power_arr, body) * np.where(blocked, 0.5, 1.0)
     # a pass is worth the shot the receiver can take from where it wins the ball
-    win = 0.5 * (1.0 + np.tanh(margin / 2.0))
+    win = 0.5 * (1.0 + pm.tanh(margin / 2.0))
     follow = goal_chances(f.half_length, f.half_goal_width, landing,
                           np.broadcast_to(goal, end.shape), np.ones(len(end)), body)
     value += goal_weight * np.where(is_shot, p_goal, follow_up * win * follow)

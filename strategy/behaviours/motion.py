@@ -8,6 +8,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+import portable_math as pm
 from strategy.behaviours.control import ControlRequest
 from strategy.behaviours.skills import Skills
 from strategy.behaviours.walk_batch import WalkGoal
@@ -119,10 +120,10 @@ def detour(position: ArrayLike, target: ArrayLike, center: ArrayLike,
     t = np.asarray(target, dtype=np.float64)
     c = np.asarray(center, dtype=np.float64)
     seg = t - p
-    length2 = float(seg @ seg)
+    length2 = float(pm.matmul(seg, seg))
     if length2 < 1e-12:
         return keep_clear(t, c, radius)
-    s = min(1.0, max(0.0, float((c - p) @ seg) / length2))
+    s = min(1.0, max(0.0, float(pm.matmul(c - p, seg)) / length2))
     gap = p + s * seg - c
     if math.hypot(gap[0], gap[1]) >= radius:
         return t

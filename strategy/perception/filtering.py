@@ -66,6 +66,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
+import portable_math as pm
 from teamenv.config import build_config
 from teamenv.errors import ConfigError, TeamEnvError
 
@@ -490,7 +491,7 @@ _ZERO = np.zeros(1, dtype=np.intp)
 def _recency(age: NDArray[np.float64], half_life: float) -> NDArray[np.float64]:
     if math.isinf(half_life):
         return np.ones_like(age)
-    return np.exp2(-np.minimum(age / half_life, _MAX_HALVINGS))
+    return pm.exp2(-np.minimum(age / half_life, _MAX_HALVINGS))
 
 
 _UNKNOWN = {"known": False, "positions": np.nan, "time_s": np.nan, "newest_s": np.nan,

@@ -87,6 +87,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+import portable_math as pm
 from strategy.perception.two_posts import (
     on_field,
     two_landmark_candidates,
@@ -381,7 +382,7 @@ class BatchLocalizer:
     @property
     def weights(self) -> NDArray[np.float64]:
         """(A, N) the normalized weights."""
-        w = np.exp(self._logw - self._logw.max(axis=1, keepdims=True))
+        w = pm.exp(self._logw - self._logw.max(axis=1, keepdims=True))
         return w / w.sum(axis=1, keepdims=True)
 
     def _rows(self, agents: ArrayLike | None) -> NDArray[np.intp] | slice:
@@ -526,13 +527,13 @@ class BatchLocalizer:
             pred = np.sqrt(g2 + s.lm_dz2[:, None, :]) if self.params.distance_model == "3d" \
                 else g
             e = pred - s.lm_dist[:, None, :]
-            ll -= np.matmul(e * e, s.lm_inv_var[:, :, None])[:, :, 0]
+            ll -= pm.matmul(e * e, s.lm_inv_var[:, :, None])[:, :, 0]
             # the seen direction in the team frame, per particle: heading + azimuth
             cc, ss = c[:, :, None], sn[:, :, None]
             ca, sa = s.lm_cos[:, None, :], s.lm_sin[:, None, :]
             dot = dx * (cc * ca - ss * sa) + dy * (ss * ca + cc * sa)
             cos_err = dot / np.maximum(g, 1e-9)
-            ll += np.matmul(cos_err, s.lm_kappa[:, :, None])[:, :, 0]
+            ll += pm.matmul(cos_err, s.lm_kappa[:, :, None])[:, :, 0]
             ll -= s.lm_kappa.sum(axis=1)[:, None]
         if s.pt_fwd.shape[1]:
             cc, ss = c[:, :, None], sn[:, :, None]
@@ -544,7 +545,7 @@ class BatchLocalizer:
             np.clip(iy, 0.0, self._gny - 1, out=iy)
             flat = iy.astype(np.intp) * self._gnx + ix.astype(np.intp)
             r = np.minimum(self._grid.take(flat), self.params.line_cap_m)
-            ll -= np.matmul(r * r, s.pt_inv_var[:, :, None].astype(np.float32))[:, :, 0]
+            ll -= pm.matmul(r * r, s.pt_inv_var[:, :, None].astype(np.float32))[:, :, 0]
         return ll
 
     def correct(self, agents: ArrayLike | None, landmarks: ArrayLike,
@@ -573,8 +574,8 @@ class BatchLocalizer:
         ll = self._loglik(p[0], p[1], p[2], s)
 
         # the fit of this update and the augmented-MCL averages (active agents only)
-        w = np.exp(logw)
-        q = (w * np.exp(ll / np.maximum(weight, 1e-12)[:, None])).sum(axis=1)
+        w = pm.exp(logw)
+        q = (w * pm.exp(ll / np.maximum(weight, 1e-12)[:, None])).sum(axis=1)
         prm = self.params
         slow = np.where(np.isnan(self.w_slow[rows]), q, self.w_slow[rows])
         fast = np.where(np.isnan(self.w_fast[rows]), q, self.w_fast[rows])
@@ -595,9 +596,9 @@ class BatchLocalizer:
 
         logw = logw + ll
         logw -= logw.max(axis=1, keepdims=True)
-        w = np.exp(logw)
+        w = pm.exp(logw)
         total = w.sum(axis=1, keepdims=True)
-        logw -= np.log(total)
+        logw -= pm.log(total)
         w /= total
         ess = 1.0 / (w * w).sum(axis=1)
         low = np.flatnonzero(active & (ess < prm.resample_ess * self.n))
@@ -672,9 +673,9 @@ class BatchLocalizer:
         single = ~pair
         if single.any():  # one landmark: its distance and bearing, the heading believed
             c, sn = np.cos(p[2]), np.sin(p[2])
-            mean = np.arctan2((w * sn).sum(axis=1), (w * c).sum(axis=1))
+            mean = pm.arctan2((w * sn).sum(axis=1), (w * c).sum(axis=1))
             length = np.hypot((w * sn).sum(axis=1), (w * c).sum(axis=1))
-            circ_std = np.sqrt(-2.0 * np.log(np.clip(length, 1e-12, 1.0)))
+            circ_std = np.sqrt(-2.0 * pm.log(np.clip(length, 1e-12, 1.0)))
             sigma = np.maximum(math.radians(prm.reset_sigma_heading_deg), circ_std)
             rs = ri[single]
             psi = mean[rs] + sigma[rs] * rng.standard_normal(len(rs))
@@ -702,18 +703,18 @@ class BatchLocalizer:
     def estimate(self) -> PoseEstimate:
         """Every agent's pose (A, 3) and covariance (A, 3, 3) (see ``PoseEstimate``)."""
         if self._estimate is None:
-            w = np.exp(self._logw)  # normalized log-weights
+            w = pm.exp(self._logw)  # normalized log-weights
             w /= w.sum(axis=1, keepdims=True)
             x, y, h = self._p
             trig = np.stack((np.cos(h), np.sin(h)))
             mx, my = (w * x).sum(axis=1), (w * y).sum(axis=1)
             mc, ms = (trig * w).sum(axis=2)
-            mh = np.arctan2(ms, mc)
+            mh = pm.arctan2(ms, mc)
             dev = np.empty((self.n_agents, 3, self.n))
             np.subtract(x, mx[:, None], out=dev[:, 0])
             np.subtract(y, my[:, None], out=dev[:, 1])
             dev[:, 2] = (h - mh[:, None] + np.pi) % (2.0 * np.pi) - np.pi
-            cov = np.matmul(dev * w[:, None, :], dev.transpose(0, 2, 1))
+            cov = pm.matmul(dev * w[:, None, :], dev.transpose(0, 2, 1))
             self._estimate = PoseEstimate(np.stack((mx, my, mh), axis=1), cov)
         return PoseEstimate(self._estimate.pose.copy(), self._estimate.covariance.copy())
 

@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+import portable_math as pm
 from teamenv.field import FieldSpec
 
 
@@ -28,8 +29,8 @@ def _wrap(a: NDArray[np.float64]) -> NDArray[np.float64]:
 def _headings(px: NDArray, py: NDArray, p1: NDArray, p2: NDArray, az1: NDArray,
               az2: NDArray) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Heading (circular mean of the two landmarks' votes) and the votes' disagreement."""
-    h1 = np.arctan2(p1[..., 1] - py, p1[..., 0] - px) - az1
-    h2 = np.arctan2(p2[..., 1] - py, p2[..., 0] - px) - az2
+    h1 = pm.arctan2(p1[..., 1] - py, p1[..., 0] - px) - az1
+    h2 = pm.arctan2(p2[..., 1] - py, p2[..., 0] - px) - az2
     diff = _wrap(h2 - h1)
     return _wrap(h1 + 0.5 * diff), np.abs(diff)
 
@@ -62,8 +63,8 @@ def two_post_candidates(u1: ArrayLike, v1: ArrayLike, u2: ArrayLike, v2: ArrayLi
     with np.errstate(divide="ignore", invalid="ignore"):
         cos1 = (d2 * d2 - d1 * d1 - seen_width ** 2) / (-2.0 * d1 * seen_width)  # eq. 3-5
         cos2 = (d1 * d1 - d2 * d2 - seen_width ** 2) / (-2.0 * d2 * seen_width)
-        a1 = np.arccos(np.clip(cos1, -1.0, 1.0))
-        a2 = np.arccos(np.clip(cos2, -1.0, 1.0))
+        a1 = pm.arccos(np.clip(cos1, -1.0, 1.0))
+        a2 = pm.arccos(np.clip(cos2, -1.0, 1.0))
         base = p2 - p1
         width = np.hypot(base[..., 0], base[..., 1])
         ex, ey = base[..., 0] / width, base[..., 1] / width       # along the baseline
@@ -74,7 +75,7 @@ def two_post_candidates(u1: ArrayLike, v1: ArrayLike, u2: ArrayLike, v2: ArrayLi
         rx = np.cos(a1) * ex - side * np.sin(a1) * ey
         ry = np.cos(a1) * ey + side * np.sin(a1) * ex
         px, py = p1[..., 0] + t1 * rx, p1[..., 1] + t1 * ry
-        psi, res = _headings(px, py, p1, p2, np.arctan2(v1, u1), np.arctan2(v2, u2))  # eq. 10
+        psi, res = _headings(px, py, p1, p2, pm.arctan2(v1, u1), pm.arctan2(v2, u2))  # eq. 10
         poses.append(np.stack((px, py, psi), axis=-1))
         residual.append(res)
     return np.stack(poses, axis=-2), np.stack(residual, axis=-1)

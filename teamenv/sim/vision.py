@@ -45,6 +45,7 @@ from typing import Any
 
 import numpy as np
 
+import portable_math as pm
 from teamenv.config import PerceptionConfig
 from teamenv.field import FieldSpec
 from teamenv.landmarks import field_lines, landmarks
@@ -193,8 +194,8 @@ class VisionPerception:
         truncation applied."""
         ground = np.hypot(fwd, left)
         dist = np.sqrt(ground * ground + dz * dz)
-        az = np.arctan2(left, fwd)
-        el = np.arctan2(dz, ground)
+        az = pm.arctan2(left, fwd)
+        el = pm.arctan2(dz, ground)
         if noise is not None:
             s = self._sigma
             dist = dist + dist * (s[0] * noise[0])

@@ -25,6 +25,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+import portable_math as pm
 from teamenv.errors import ConfigError
 from teamenv.field import FieldSpec, field_preset
 
@@ -231,7 +232,7 @@ class Formation:
             return self._positions[0].copy()
         s = int(self._tri.find_simplex(b))
         if s >= 0:
-            return (np.array([b[0], b[1], 1.0]) @ self._affine[s]).reshape(-1, 2)
+            return pm.matmul(np.array([b[0], b[1], 1.0]), self._affine[s]).reshape(-1, 2)
         return self._outside(b[None, :])[0]
 
     def home_positions_many(self, balls: ArrayLike) -> NDArray[np.float64]:

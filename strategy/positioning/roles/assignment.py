@@ -33,6 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import linear_sum_assignment
 from scipy.spatial.distance import cdist
 
+import portable_math as pm
 from teamenv.errors import TeamEnvError
 
 FALLEN_PENALTY_M = 1.0
@@ -265,7 +266,7 @@ def assign_roles(
             position_of[missing] = np.flatnonzero(~taken)
     if len(d) == 0:
         return Assignment(position_of, 0.0, 0.0)
-    return Assignment(position_of, max(d.tolist()), float(d @ d))
+    return Assignment(position_of, max(d.tolist()), float(pm.matmul(d, d)))
 
 
 def _points(value: ArrayLike, name: str) -> NDArray[np.float64]:
