@@ -170,6 +170,9 @@ class LocalServer:
         data = self.sim.mj_data
         for joint, angle in angles.items():
             data.joint(agent.agent_id.prefix + joint).qpos[:] = angle
+        # the solver's warm start remembers the robot's past motion: forget it, so that the
+        # same pose moves the same way whatever the robot did before
+        data.qacc_warmstart[:] = 0.0
         mujoco.mj_forward(self.sim.mj_model, data)
 
     def _in_own_rng(self, fn, *args):
