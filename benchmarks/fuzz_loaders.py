@@ -36,7 +36,6 @@ from typing import Any
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
 OUTCOMES = ("foreign", "unnamed", "error", "same", "changed")
 
 
@@ -117,14 +116,18 @@ def _make_replay(directory: Path) -> Path:
 
 
 def _make_profile(directory: Path) -> Path:
+    from locomotion.profile import PROFILE_DIR
+
     path = directory / "original.json"
-    path.write_bytes((ROOT / "locomotion" / "profiles" / "t1_mj.json").read_bytes())
+    path.write_bytes((PROFILE_DIR / "t1_mj.json").read_bytes())
     return path
 
 
 def _make_formation(directory: Path) -> Path:
+    import strategy.positioning.formation as formation_package
+
     path = directory / "original.json"
-    data = ROOT / "strategy" / "positioning" / "formation" / "data" / "7v7-defend.json"
+    data = Path(formation_package.__file__).parent / "data" / "7v7-defend.json"
     path.write_bytes(data.read_bytes())
     return path
 
