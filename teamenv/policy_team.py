@@ -60,7 +60,7 @@ from teamenv.teams import TeamContext
 
 MLP_FORMAT = "teamenv-mlp-v1"
 ACTIVATIONS: dict[str, Callable[[np.ndarray], np.ndarray]] = {
-    "tanh": np.tanh,
+    "tanh": lambda x: pm.tanh(x).astype(x.dtype),
     "relu": lambda x: np.maximum(x, 0.0),
     "identity": lambda x: x,
 }

@@ -175,7 +175,7 @@ class BallBelief:
         elif velocity is not None:
             velocity = velocity.copy()
         factor = 1.0 if basis.source == "own" else self.params.heard_confidence
-        confidence = basis.share * factor * 0.5 ** (age / self.params.confidence_half_life_s)
+        confidence = basis.share * factor * math.pow(0.5, age / self.params.confidence_half_life_s)
         return BallEstimate(position, velocity, age, basis.source, float(confidence),
                             basis.support)
 
