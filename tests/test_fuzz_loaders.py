@@ -42,3 +42,16 @@ def test_corrupted_files_end_in_the_loaders_own_errors(tmp_path, kind_name):
         assert counts["changed"] == 0, tally.examples["changed"]
     assert counts["error"] > FILES_PER_KIND // 2
     assert sum(counts.values()) == FILES_PER_KIND
+
+
+@pytest.mark.parametrize("kind_name", ["profile", "formation", "agent2d-json", "agent2d-csv",
+                                       "agent2d-v3"])
+def test_a_byte_that_is_not_utf8_names_file_and_line(tmp_path, kind_name):
+    kind = fl.kinds()[kind_name]
+    original = kind.make(tmp_path)
+    lines = original.read_bytes().split(b"\n")
+    lines[4] = lines[4] + b"\xe9"  # a Latin-1 e-acute on line 5
+    bad = tmp_path / f"latin1{original.suffix}"
+    bad.write_bytes(b"\n".join(lines))
+    with pytest.raises(kind.errors, match=r"latin1.*not UTF-8 text: byte 0xe9 at line 5"):
+        kind.load(bad)
