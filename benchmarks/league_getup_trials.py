@@ -43,7 +43,7 @@ def seed_range(text: str) -> list[int]:
 def run(side: str, seeds: list[int]) -> list[dict]:
     rows = []
     for seed in seeds:
-        r = getup_trial(GetUpMotion(), side, seed, hold_s=2.0)
+        r = getup_trial(GetUpMotion(attempts=1), side, seed, hold_s=2.0)
         rows.append({"side": side, "seed": seed, "lay_on_front": r.lying_on_front,
                      "chose": r.side_detected, "up": r.up, "fell_after": r.fell_after,
                      "success": r.success,

@@ -36,7 +36,7 @@ import numpy as np
 
 from teamenv.league import getup
 from teamenv.league.getup import END_POSE, GetUpMotion
-from teamenv.league.getup_trial import TEAM, getup_trial, trial_server
+from teamenv.league.getup_trial import TEAM, UNUM, getup_trial, trial_server
 
 #: joint group -> (low, high) rad; durations (s) below
 BOX = {
@@ -94,7 +94,7 @@ STAND_HEIGHT_M = 0.62
 def crouch(server) -> float:
     """How much the robot crouches over its feet (1: centre of mass >= 0.45 m, over them)."""
     data = server.sim.mj_data
-    prefix = server._agents[(TEAM, 1)].agent_id.prefix
+    prefix = server._agents[(TEAM, UNUM)].agent_id.prefix
     com = data.subtree_com[server.sim.mj_model.body(prefix + "torso").id]
     left, right = (data.body(prefix + f"{s}_foot_link").xpos for s in ("left", "right"))
     if max(left[2], right[2]) > FOOT_DOWN_M:  # weight over feet in the air is no crouch
@@ -121,7 +121,7 @@ def trial_score(motion: GetUpMotion, side: str, seed: int, server) -> tuple[floa
 
 
 def score(frames, side: str, server) -> tuple[float, list[dict]]:
-    motion = GetUpMotion(front=frames, back=frames)
+    motion = GetUpMotion(front=frames, back=frames, attempts=1)
     rows = [trial_score(motion, side, seed, server) for seed in TUNING_SEEDS]
     return sum(s for s, _ in rows) / len(rows), [r for _, r in rows]
 

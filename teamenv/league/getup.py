@@ -7,8 +7,16 @@ each keyframe is reached in its own time by smooth (cosine) interpolation from t
 every motor a PD target with the walker's gains. The last keyframe is ``END_POSE``, the stance
 a walk starts from; the motion is ``done`` once it has held that pose for ``SETTLE_S`` and
 ``succeeded`` if the robot is then up (the observation's fall test says not down and the torso
-is near the stance's height). A robot that falls again during the motion is not retried here:
-the caller sees ``done`` without ``succeeded`` and starts a new motion.
+is near the stance's height). A robot still (or again) down is not retried within the run:
+the caller sees ``done`` without ``succeeded`` and starts the motion again.
+
+The keyframes do not get the T1 up yet (0 % of 100 + 100 trials, docs/league.md "Getting
+up"), and a failed run hurts: it lifts the torso above 0.25 m, which restarts the count with
+which rcsssmj's referee stands a robot up after 15 s on the ground. So after ``attempts``
+failed runs in a row a start *rests* instead (lies still in ``REST_POSE`` until the referee
+has stood the robot up, at most ``REST_S``), and ``ATTEMPTS``, the default, is 0 until the
+keyframes work: in a match the motion then only rests, and a robot is up after the referee's
+15 s as before (raise it once league_getup_trials.py says the keyframes stand the robot up).
 
 A keyframe is (seconds to reach it, joint group -> angle in rad). The groups are symmetric:
 ``shoulder_pitch``, ``elbow_pitch``, ``hip_pitch``, ``knee``, ``ankle_pitch`` drive the left
@@ -111,6 +119,18 @@ BACK: tuple[Keyframe, ...] = (
 GAIN_SCALE = 2.9369
 #: seconds the end pose is held (the robot settles) before the motion is done
 SETTLE_S = 0.4
+#: the pose a resting robot holds: flat (legs straight, arms out along the ground), so that
+#: its torso stays below the 0.15 m under which the referee counts time on the ground
+REST_POSE: dict[str, float] = {group: 0.0 for group in END_POSE}
+
+#: keyframe runs in a row that may end down before the motion rests instead (lies still so
+#: that the referee stands the robot up): 0 while the keyframes do not get the T1 up
+#: (benchmarks/league_getup_trials.py: 0 % front and back); a match then gets its robots up
+#: as before, through the referee after 15 s, and not later
+ATTEMPTS = 0
+#: seconds a rest lasts at most: past rcsssmj's ground_max_time (15 s on the ground: the
+#: referee stands a field player up at the sideline; the goalie waits 30 s)
+REST_S = 16.0
 #: torso height (m) the robot must reach to count as up (it stands at ~0.66 m)
 UP_HEIGHT_M = 0.55
 
@@ -152,16 +172,24 @@ def _targets(frame: Mapping[str, float], previous: Mapping[str, float]) -> dict[
 
 
 class GetUpMotion:
-    """One get-up, front or back chosen at ``start``; see the module docstring.
+    """One get-up at a time, front or back chosen at each ``start``; see the module docstring.
+
+    After ``attempts`` keyframe runs in a row that ended down, ``start`` rests instead: it
+    holds ``REST_POSE`` lying still until the robot is up or ``REST_S`` has passed, so that
+    rcsssmj's referee, which stands a field player up at the sideline after 15 s on the
+    ground, can do so (a keyframe run lifts the torso above 0.25 m, which restarts the
+    referee's count: a robot that tried forever would lie forever); the count of failures
+    starts again after a rest or a success.
 
     Args:
         front, back: the keyframes of each side (default ``FRONT`` / ``BACK``); the last one
             should be the end pose a walk starts from.
         settle_s: seconds the last keyframe is held before the motion is done.
+        attempts: failed keyframe runs before resting (default ``ATTEMPTS``).
     """
 
     def __init__(self, front: Sequence[Keyframe] = FRONT, back: Sequence[Keyframe] = BACK,
-                 settle_s: float = SETTLE_S) -> None:
+                 settle_s: float = SETTLE_S, attempts: int | None = None) -> None:
         for name, frames in (("front", front), ("back", back)):
             if not frames:
                 raise LeagueError(f"GetUpMotion: no {name} keyframes")
@@ -170,29 +198,46 @@ class GetUpMotion:
                     raise LeagueError(f"GetUpMotion: {name} keyframe {k}: duration {dt!r} "
                                       "is not a positive number of seconds")
                 _targets(frame, {})
+        attempts = ATTEMPTS if attempts is None else attempts
+        if isinstance(attempts, bool) or not isinstance(attempts, int) or attempts < 0:
+            raise LeagueError(f"GetUpMotion: attempts {attempts!r} is not an int >= 0")
         self.front, self.back = tuple(front), tuple(back)
         self.settle_s = float(settle_s)
+        self.attempts = attempts
         self._gains = _motor_gains()
         self._plan: list[tuple[float, dict[str, float]]] = []
         self._t = 0.0
+        self._failures = 0
+        #: "front" / "back": the side chosen at the last start
         self.side: str | None = None
+        #: this run rests (holds the end pose lying still) instead of playing keyframes
+        self.resting = False
         self.done = False
         self.succeeded = False
         self.started = False
 
     @property
     def duration(self) -> float:
-        """Seconds from start to done of the side chosen (NaN before ``start``)."""
+        """Seconds from start to done of the keyframes chosen (a rest: at most ``REST_S``;
+        NaN before ``start``)."""
         if not self._plan:
             return math.nan
+        if self.resting:
+            return REST_S
         return sum(dt for dt, _ in self._plan) + self.settle_s
 
     def start(self, perception: Perception) -> None:
-        """Begin from ``perception``: choose the side, plan from the measured joints."""
+        """Begin from ``perception``: choose the side, plan from the measured joints (or
+        rest, after ``attempts`` failures)."""
         quat = perception.orientations.get("torso_quat")
         if quat is None:
             raise LeagueError("GetUpMotion.start: the perception has no torso_quat")
+        if self.started and self.done and not self.resting:
+            self._failures = 0 if self.succeeded else self._failures + 1
+        elif self.started and self.resting:
+            self._failures = 0
         self.side = "front" if lying_on_front(quat) else "back"
+        self.resting = self._failures >= self.attempts
         current = {}
         for motor in T1_MOTORS:
             js = perception.joints.get(joint_sensor(motor))
@@ -202,9 +247,13 @@ class GetUpMotion:
             current[motor] = js.angle
         self._plan = [(0.0, current)]
         previous = current
-        for dt, frame in (self.front if self.side == "front" else self.back):
+        frames = ((REST_S, REST_POSE),) if self.resting else (
+            self.front if self.side == "front" else self.back)
+        for dt, frame in frames:
             previous = _targets(frame, previous)
             self._plan.append((float(dt), previous))
+        if self.resting:  # at once, not interpolated: nothing to get up from
+            self._plan[0] = (0.0, previous)
         self._t = 0.0
         self.done = self.succeeded = False
         self.started = True
@@ -223,9 +272,12 @@ class GetUpMotion:
             raise LeagueError("GetUpMotion.step before start")
         self._t += CYCLE_S
         pose = self._pose_at(self._t)
-        if not self.done and self._t >= self.duration - 1e-9:
-            self.done = True
-            self.succeeded = is_up(perception)
+        if not self.done:
+            if self.resting and is_up(perception):  # the referee stood it up
+                self.done = self.succeeded = True
+            elif self._t >= self.duration - 1e-9:
+                self.done = True
+                self.succeeded = is_up(perception)
         return effectors.message(*(
             effectors.motor(m, pose[m], 0.0, *self._gains[m]) for m in T1_MOTORS))
 

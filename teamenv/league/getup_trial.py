@@ -29,6 +29,8 @@ from .perception import Perception
 from .t1 import T1_MOTORS
 
 TEAM = "GetUp"
+#: a field player: the referee stands it up after 15 s on the ground (the goalie, 1: 30 s)
+UNUM = 2
 #: seconds a fall may take beyond its drawn ``fall_s`` until the robot is down
 MAX_EXTRA_FALL_S = 3.0
 
@@ -115,11 +117,12 @@ class GetUpTrial:
 
 
 def run_getup(motion: GetUpMotion, p: Perception, cycle: Callable[[str], Perception],
-              hold_s: float, max_s: float = 10.0) -> tuple[bool, float, bool, np.ndarray,
+              hold_s: float, max_s: float | None = None) -> tuple[bool, float, bool, np.ndarray,
                                                             np.ndarray]:
     """Run ``motion`` from perception ``p``; returns (up at done, time to up, fell in hold,
     torso heights, torso up-axis z)."""
     motion.start(p)
+    max_s = motion.duration + 1.0 if max_s is None else max_s
     heights, uprights, up_since = [], [], None
 
     def record(p: Perception) -> None:
@@ -156,7 +159,7 @@ def getup_trial(motion: GetUpMotion, side: str, seed: int, hold_s: float = 2.0,
     looks at the simulation's state there)."""
     s = fall_setup(side, seed)
     server = server or trial_server()
-    key = (TEAM, 1)
+    key = (TEAM, UNUM)
     sign = 1.0 if side == "front" else -1.0  # + pitch tips the torso forward
     tip = _quat_mul(_axis_quat((0, 1, 0), sign * s.tilt), _axis_quat((1, 0, 0), s.roll))
     quat = _quat_mul(_axis_quat((0, 0, 1), s.yaw), tip)
@@ -174,7 +177,7 @@ def getup_trial(motion: GetUpMotion, side: str, seed: int, hold_s: float = 2.0,
     # answered first, so the pose below moves under the falling command from its first step
     # (the server applies an answer one cycle late), not under the last trial's
     cycle(falling)
-    server.set_robot_pose(TEAM, 1, (s.x, s.y, 0.67), quat, joints=s.joints,
+    server.set_robot_pose(TEAM, UNUM, (s.x, s.y, 0.67), quat, joints=s.joints,
                           angular_velocity=(0.0, sign * s.tip_rate, 0.0))
     p = cycle(falling)
     for _ in range(round(s.fall_s / CYCLE_S)):
@@ -198,7 +201,7 @@ def trial_server():
     from .local_server import LocalServer
 
     server = LocalServer()
-    server.join(TEAM, 1)
+    server.join(TEAM, UNUM)
     server.cycle({})
     return server
 
@@ -259,16 +262,16 @@ def real_fall_trial(motion: GetUpMotion, side: str, hold_s: float = 1.0,
         from .server import LeagueServer
         from .team_client import TeamClient
 
-        with LeagueServer() as server, TeamClient("127.0.0.1", server.agent_port, TEAM, (1,),
+        with LeagueServer() as server, TeamClient("127.0.0.1", server.agent_port, TEAM, (UNUM,),
                                                   check_alive=server.check_alive) as team:
             team.join()
 
             def cycle(msg: str) -> Perception:
-                team.act({1: msg})
-                return team.perceive()[1]
+                team.act({UNUM: msg})
+                return team.perceive()[UNUM]
 
-            return run(team.perceive()[1], cycle, lambda: server.monitor.kick_off("Left"))
+            return run(team.perceive()[UNUM], cycle, lambda: server.monitor.kick_off("Left"))
     server = trial_server()
-    key = (TEAM, 1)
+    key = (TEAM, UNUM)
     return run(server.latest[key], lambda msg: server.cycle({key: msg})[key],
                lambda: server.kick_off("Left"))

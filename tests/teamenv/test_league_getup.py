@@ -23,6 +23,7 @@ from teamenv.league.getup import (  # noqa: E402
 )
 from teamenv.league.getup_trial import (  # noqa: E402
     TEAM,
+    UNUM,
     fall_setup,
     getup_trial,
     real_fall_trial,
@@ -57,13 +58,15 @@ def test_bad_keyframes_are_refused_with_their_name() -> None:
         GetUpMotion(front=())
     with pytest.raises(LeagueError, match="before start"):
         GetUpMotion().step(None)
+    with pytest.raises(LeagueError, match="attempts -1"):
+        GetUpMotion(attempts=-1)
 
 
 def test_set_robot_pose_places_the_torso_and_the_joints() -> None:
     server = trial_server()
     quat = _pitch_quat(math.pi / 2)
-    server.set_robot_pose(TEAM, 1, (-4.0, 2.0, 0.4), quat, joints={"lle4": 1.0, "rae1": -0.5})
-    p = server.cycle({})[(TEAM, 1)]
+    server.set_robot_pose(TEAM, UNUM, (-4.0, 2.0, 0.4), quat, joints={"lle4": 1.0, "rae1": -0.5})
+    p = server.cycle({})[(TEAM, UNUM)]
     # one cycle of free fall (20 ms) later: still where it was put
     assert p.positions["torso_pos"][0] == pytest.approx(-4.0, abs=0.02)
     assert p.positions["torso_pos"][1] == pytest.approx(2.0, abs=0.02)
@@ -78,18 +81,18 @@ def test_set_robot_pose_places_the_torso_and_the_joints() -> None:
         kwargs = {"team": TEAM, "quat": (1, 0, 0, 0), "joints": None, "position": (0, 0, 1)}
         kwargs.update(bad)
         with pytest.raises(LeagueError, match=match):
-            server.set_robot_pose(kwargs["team"], 1, kwargs["position"], kwargs["quat"],
+            server.set_robot_pose(kwargs["team"], UNUM, kwargs["position"], kwargs["quat"],
                                   joints=kwargs["joints"])
 
 
 def test_the_motion_starts_from_the_measured_joints_and_ends_in_the_stance() -> None:
     server = trial_server()
-    server.set_robot_pose(TEAM, 1, (-5.0, 0.0, 0.15), _pitch_quat(math.pi / 2),
+    server.set_robot_pose(TEAM, UNUM, (-5.0, 0.0, 0.15), _pitch_quat(math.pi / 2),
                           joints={"lae1": -0.7, "lle4": 0.9})
-    p = server.cycle({})[(TEAM, 1)]
-    motion = GetUpMotion()
+    p = server.cycle({})[(TEAM, UNUM)]
+    motion = GetUpMotion(attempts=1)
     motion.start(p)
-    assert motion.side == "front" and not motion.done
+    assert motion.side == "front" and not motion.done and not motion.resting
     first = motion.step(p)
     # one cycle in, the targets are still near the measured angles (smooth start)
     measured = {m: p.joints[joint_sensor(m)].angle for m in T1_MOTORS}
@@ -119,7 +122,7 @@ def test_falls_differ_by_seed_and_repeat_for_the_same_seed() -> None:
 
 @pytest.mark.parametrize("side", ["front", "back"])
 def test_a_fallen_robot_lies_on_the_side_it_was_tipped_to_and_the_motion_sees_it(side) -> None:
-    r = getup_trial(GetUpMotion(), side, seed=7, hold_s=0.0)
+    r = getup_trial(GetUpMotion(attempts=1), side, seed=7, hold_s=0.0)
     assert r.lying_on_front == (side == "front")
     assert r.side_detected == side
 
@@ -140,13 +143,13 @@ def test_from_a_deep_squat_the_end_pose_stands_the_robot_up() -> None:
              "rle5": -0.87, "lae2": -1.3, "rae2": 1.3}
     # torso pitched 0.07 rad forward: the feet flat on the ground; torso height from the
     # T1's kinematics in that pose
-    server.set_robot_pose(TEAM, 1, (-5.0, 0.0, 0.375), _pitch_quat(0.07), joints=squat)
-    p = server.cycle({})[(TEAM, 1)]
-    motion = GetUpMotion(front=((1.0, END_POSE),), back=((1.0, END_POSE),))
+    server.set_robot_pose(TEAM, UNUM, (-5.0, 0.0, 0.375), _pitch_quat(0.07), joints=squat)
+    p = server.cycle({})[(TEAM, UNUM)]
+    motion = GetUpMotion(front=((1.0, END_POSE),), back=((1.0, END_POSE),), attempts=1)
     motion.start(p)
     up_at = None
     for k in range(round(6.0 / 0.02)):
-        p = server.cycle({(TEAM, 1): motion.step(p)})[(TEAM, 1)]
+        p = server.cycle({(TEAM, UNUM): motion.step(p)})[(TEAM, UNUM)]
         if up_at is None and is_up(p):
             up_at = k
         if up_at is not None:
@@ -160,7 +163,7 @@ def test_the_motion_lifts_a_robot_lying_on_its_front_or_back(side) -> None:
     """What the keyframes reach today (see docs/league.md "Getting up"): the torso well off
     the ground (lying: 0.14 m on the front, 0.01 m on the back) and, from the front, more than
     halfway to upright."""
-    r = getup_trial(GetUpMotion(), side, seed=11, hold_s=0.0)
+    r = getup_trial(GetUpMotion(attempts=1), side, seed=11, hold_s=0.0)
     assert r.side_detected == side
     assert r.heights.max() > (0.3 if side == "front" else 0.2)
     if side == "front":
@@ -172,14 +175,57 @@ def test_the_motion_lifts_a_robot_lying_on_its_front_or_back(side) -> None:
                                         "(0 % in benchmarks/league_getup_trials.py)")
 @pytest.mark.parametrize("side", ["front", "back"])
 def test_a_robot_lying_on_its_front_or_back_stands_up_within_5_s(side) -> None:
-    r = getup_trial(GetUpMotion(), side, seed=12, hold_s=1.0)
+    r = getup_trial(GetUpMotion(attempts=1), side, seed=12, hold_s=1.0)
     assert r.success and r.time_to_up <= 5.0
 
 
 def test_a_get_up_on_the_real_server() -> None:
     """Real rcssservermj: the robot tips itself onto its back with its own motors, the motion
     sees the back and lifts the torso off the ground (up: see the xfail above)."""
-    r = real_fall_trial(GetUpMotion(), "back", hold_s=0.0, real_server=True)
+    r = real_fall_trial(GetUpMotion(attempts=1), "back", hold_s=0.0, real_server=True)
     assert not r.lying_on_front and r.side_detected == "back"
     assert r.heights[0] < 0.1
     assert r.heights.max() > 0.2
+
+
+def test_after_its_failed_attempts_the_motion_rests_and_the_referee_stands_the_robot_up() -> None:
+    """A failed keyframe run, then a rest: lying still (torso below the referee's 0.15 m) until
+    rcsssmj's referee stands the field player up at the sideline (15 s on the ground)."""
+    server = trial_server()
+    server.kick_off("Left")  # the referee counts nothing before the kick-off
+    key = (TEAM, UNUM)
+    server.set_robot_pose(TEAM, UNUM, (-5.0, 3.0, 0.2), _pitch_quat(math.pi / 2))
+    p = server.cycle({})[key]
+    motion = GetUpMotion(attempts=1)
+    runs = []
+    for _ in range(2):
+        motion.start(p)
+        runs.append(motion.resting)
+        heights = []
+        while not motion.done:
+            p = server.cycle({key: motion.step(p)})[key]
+            heights.append(p.positions["torso_pos"][2])
+    assert runs == [False, True]
+    assert motion.succeeded and is_up(p)                  # the rest ended with the robot up
+    assert len(heights) * 0.02 < 16.0                     # before REST_S: the referee did it
+    assert abs(p.positions["torso_pos"][1]) > 10.0        # at the sideline
+    lying = np.array(heights[25:-5])
+    assert np.mean(lying < 0.15) > 0.95                   # lay still, low enough to count
+    # the next fall tries the keyframes again
+    motion.start(p)
+    assert not motion.resting
+
+
+def test_by_default_the_motion_rests_while_the_keyframes_fail() -> None:
+    from teamenv.league.getup import ATTEMPTS, REST_POSE
+
+    server = trial_server()
+    server.set_robot_pose(TEAM, UNUM, (-5.0, 0.0, 0.2), _pitch_quat(-math.pi / 2))
+    p = server.cycle({})[(TEAM, UNUM)]
+    motion = GetUpMotion()
+    motion.start(p)
+    assert ATTEMPTS == 0 and motion.resting and motion.side == "back"
+    first = motion.step(p)
+    targets = {e[0]: math.radians(float(e[1])) for e in
+               (part.split() for part in first.strip("()").split(")("))}
+    assert all(abs(targets[m] - 0.0) < 1e-6 for m in T1_MOTORS) and set(REST_POSE) == set(END_POSE)
