@@ -29,7 +29,7 @@ from numpy.typing import NDArray
 from strategy.geometry import BallRoll
 from strategy.perception.ball_belief import BallEstimate
 from strategy.perception.filtering import FilterParams
-from strategy.perception.localization import BatchLocalizer, LocalizationParams
+from strategy.perception.localization import BatchLocalizer, LocalizationParams, for_camera
 from strategy.perception.team_message import TeamReport, decode_team_report, team_message_schema
 from strategy.perception.team_sightings import TeamSightings
 from strategy.perception.worldmodel import WorldModel, heard_texts
@@ -81,7 +81,8 @@ class VisionPerceiver:
         self.cycle_s = context.cycle_s
         self.communicate = communicate
         self.camera_height = float(context.perception.camera_height_m)
-        self.localization = localization or LocalizationParams()
+        # the particle filter's sensor model follows the camera the team is told about
+        self.localization = for_camera(localization or LocalizationParams(), context.perception)
         self.filtering = filtering or FilterParams()
         self.params = beliefs or VisionBeliefParams()
         self.roll = roll or BallRoll()

@@ -269,7 +269,7 @@ def test_known_beam_is_taken_at_once():
 
 
 def test_mj_profile_on_the_big_field():
-    # RCSSServerMJ: no noise, 2-decimal truncation, 14 landmarks, no lines, every 2nd cycle
+    # RCSSServerMJ: no noise, 2-decimal truncation, 30 landmarks, no lines, every 2nd cycle
     walk = synthetic_walk(3, 20.0, field="mj7v7", kind="mj", height=1.1, period=2,
                           noise=Noise(0.0, 0.0, 0.0, 0.0, 0.0, 0.05), lines=False, speed=1.0)
     for obs in walk.observations:  # truncation toward zero (degrees / metres)
