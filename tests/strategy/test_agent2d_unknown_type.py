@@ -9,8 +9,15 @@ import json
 import pytest
 
 from strategy.positioning.formation import FormationError, import_agent2d
-from tests.strategy.test_agent2d import NAMES, PAIRS, TYPES, agent2d_data, write_csv, \
-    write_json, write_legacy
+from tests.strategy.test_agent2d import (
+    NAMES,
+    PAIRS,
+    TYPES,
+    agent2d_data,
+    write_csv,
+    write_json,
+    write_legacy,
+)
 
 # HELIOS-style before-kick-off.conf in today's JSON form: every role "Unknown", side "C"
 KICKOFF_NAMES = ["Goalie", "CenterBack", "CenterBack", "SideBack", "SideBack", "OffensiveHalf",
