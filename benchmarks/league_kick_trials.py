@@ -63,6 +63,7 @@ def run(seeds: range, walker: str, settle: float) -> list[dict]:
                      "error_deg": round(math.degrees(r.error), 2), "upright": r.upright,
                      "fell_during": r.fell_during, "kick_s": round(r.kick_s, 2),
                      "approach_s": round(r.approach_s, 2), "foot": r.foot,
+                     "strike_ball_x": None if r.strike_ball_x is None else round(r.strike_ball_x, 3),
                      "wall_s": round(time.perf_counter() - t0, 1)})
         print(json.dumps(rows[-1]), flush=True)
     return rows
@@ -93,7 +94,7 @@ def main() -> None:
     ap.add_argument("--seeds", default="1000:1100", help="first:last (last excluded)")
     ap.add_argument("--walker", choices=("walker", "network"), default="walker",
                     help="the approach walk: our WalkerController or the reference network")
-    ap.add_argument("--settle", type=float, default=6.0, help="seconds watched after a kick")
+    ap.add_argument("--settle", type=float, default=5.0, help="seconds watched after a kick")
     ap.add_argument("--out", default=None, help="write the rows and the summary (JSON) here")
     ap.add_argument("--merge", nargs="+", default=None, help="summarise these --out files")
     args = ap.parse_args()

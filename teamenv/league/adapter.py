@@ -21,8 +21,10 @@ stands still instead of stepping in place: our walker stepping on the spot falls
 the kick spot facing the direction (``approach_command``) and, once there with a recent
 sighting (``in_kick_spot``, ``KICK_SIGHTING_MAX_AGE_S``), starts the kick motion;
 the motion plays to its end whatever is asked meanwhile (walk and kick requests are ignored,
-a beam cancels it), then the walk starts afresh (``controller.reset()``) from the pose the
-kick left. Before the ball was ever seen a kick request walks along the kick direction.
+a beam cancels it). The kick is a kick step of the walk: with our ``WalkerController`` it
+continues the controller's own gait, and the walk goes on from there; with another
+controller it runs a walker of its own and the controller starts afresh
+(``controller.reset()``) after it. Before the ball was ever seen a kick request walks along the kick direction.
 ``kick=None`` turns kicks off (a kick request is then a walk through the ball, the old
 behaviour, kept for comparison).
 
@@ -42,7 +44,7 @@ from comms.profiles import get_profile
 from teamenv.landmarks import MJ_MARKS_LEFT, MJ_MARKS_RIGHT
 
 from . import effectors
-from .controller import LocomotionController
+from .controller import LocomotionController, WalkerController
 from .errors import LeagueError
 from .getup import GetUpMotion
 from .kick import BallTracker, KickMotion, approach_command, in_kick_spot
@@ -127,8 +129,11 @@ class RequestEncoder:
         #: a zero walk without a kick sends the controller's standing targets (which resets
         #: its walk, so a later walk starts afresh) instead of walking on the spot
         self.stand_when_idle = stand_when_idle
-        #: the kick motion (None: kicks are walks through the ball)
-        self.kick = KickMotion() if kick == "default" else kick
+        #: the kick motion (None: kicks are walks through the ball); by default a kick step of
+        #: the controller's own gait when it is our walker, else of a walker of its own
+        if kick == "default":
+            kick = KickMotion(controller if isinstance(controller, WalkerController) else None)
+        self.kick = kick
         #: the get-up motion run when the robot is down (None: lying robots get the request)
         self.get_up = GetUpMotion() if get_up == "default" else get_up
         self.ball = BallTracker()
@@ -151,8 +156,9 @@ class RequestEncoder:
         if self._motion is not None:
             message = self._motion.step(perception)
             if self._motion.done:
+                if not getattr(self._motion, "shares_walker", False):
+                    self.controller.reset()   # the walk starts afresh from the motion's end
                 self._motion = None
-                self.controller.reset()   # the walk starts afresh from the motion's end pose
             return message
         if self.get_up is not None and is_fallen(perception):
             self.get_up.start(perception)

@@ -46,7 +46,7 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
-from .controller import CYCLE_S, WalkerController, quat_yaw
+from .controller import CYCLE_S, LEAGUE_ENVELOPE, WalkerController, quat_yaw
 from .errors import LeagueError
 from .perception import Perception
 from .t1 import T1_MOTORS, joint_sensor
@@ -54,6 +54,9 @@ from .t1 import T1_MOTORS, joint_sensor
 MOTORS: tuple[str, ...] = tuple(T1_MOTORS)
 #: the first seconds of a kick on a fresh walker blend from the measured joint angles
 BLEND_S = 0.2
+#: a swing strikes only with the ball this close (m) to the kicking foot's line (else the foot
+#: passes beside it); the kick steps sideways to bring it there and waits for the next swing
+STRIKE_TOLERANCE_Y = 0.035
 
 
 @dataclass(frozen=True)
@@ -64,19 +67,21 @@ class KickParams:
     kicking foot's side); strike_x: the strike starts on a kicking-foot swing that begins with
     the ball at most this far ahead; walk_vx: walking speed while kicking; strike_hip,
     strike_knee: the strike's hip flexion and knee extension (added to the walk's swing leg);
-    strike_from, strike_to: the strike's share of the single support; follow_s: walking after
-    the strike; max_wait_s: a kick whose strike has not begun by then ends without one;
+    strike_from, strike_to: the strike's share of the single support; follow_s: from the
+    strike's start to the motion's end (the swing lands within it; the command goes to
+    follow_vx, which the trials keep walking after the motion); max_wait_s: a kick whose strike has not begun by then ends without one;
     aim_bias: the ball's measured outward deflection (the body faces this much inwards)."""
 
     spot_x: float = 0.5
     foot_y: float = 0.115
     strike_x: float = 0.42
     walk_vx: float = 0.15
-    strike_hip: float = 0.5
+    strike_hip: float = 0.6
     strike_knee: float = 0.3
     strike_from: float = 0.1
-    strike_to: float = 0.9
-    follow_s: float = 0.5
+    strike_to: float = 0.75
+    follow_s: float = 0.4
+    follow_vx: float = 0.0
     max_wait_s: float = 1.5
     aim_bias: float = 0.18
 
@@ -92,8 +97,18 @@ class KickParams:
 LEAGUE_KICK = KickParams()
 
 
+#: within this distance (m) the kicking foot is the one on the ball's side of the body, beyond
+#: it the one on the ball's side of the kick line
+FOOT_BY_BODY_M = 1.0
+
+
 def kick_foot(ball: tuple[float, float], direction: float) -> str:
-    """The foot on the ball's side of the kick line."""
+    """The foot that kicks ``ball`` (body frame) along ``direction``: near, the one on the
+    ball's side of the body (a robot lined up for a kick faces ``aim_bias`` away from the
+    direction, which puts the ball close to the kick line); far, the one on the ball's side
+    of the kick line."""
+    if math.hypot(*ball) <= FOOT_BY_BODY_M:
+        return "left" if ball[1] > 0 else "right"
     c, s = math.cos(direction), math.sin(direction)
     return "left" if -s * ball[0] + c * ball[1] > 0 else "right"
 
@@ -119,6 +134,7 @@ class KickMotion:
         self.foot: str | None = None
         self.struck = False
         self.strike_ball_x: float | None = None
+        self.strike_ball_y: float | None = None
         self._t = 0.0
         self._strike_t: float | None = None
         self._ball_world: np.ndarray | None = None
@@ -149,7 +165,7 @@ class KickMotion:
         self._amplitude = 0.4 + 0.6 * power
         self.foot = foot
         self.struck = False
-        self.strike_ball_x = None
+        self.strike_ball_x = self.strike_ball_y = None
         self._strike_t = None
         self._t = 0.0
         self._from = None
@@ -168,11 +184,11 @@ class KickMotion:
         yaw = quat_yaw(*perception.orientations["torso_quat"])
         err = math.remainder(self._heading_world - yaw, 2 * math.pi)
         turn = float(np.clip(1.2 * err, -0.4, 0.4))
-        if self._strike_t is not None:      # after the strike: slow down to a stop
+        if self._strike_t is not None:      # after the strike: from walk_vx to follow_vx
             left = max(0.0, 1.0 - (self._t - self._strike_t) / max(p.follow_s, 1e-6))
-            return p.walk_vx * left, 0.0, turn * left
+            return p.follow_vx + (p.walk_vx - p.follow_vx) * left, 0.0, turn * left
         side = 1.0 if self.foot == "left" else -1.0
-        vy = float(np.clip(1.5 * (by - side * p.foot_y), -0.08, 0.08))
+        vy = float(np.clip(3.0 * (by - side * p.foot_y), -0.1, 0.1))
         return p.walk_vx, vy, turn
 
     def _strike(self, walker, motors, q_ref: np.ndarray) -> np.ndarray:
@@ -181,10 +197,12 @@ class KickMotion:
         swing = "Left" if self.foot == "left" else "Right"
         ss = walker.p.step_period - walker.p.double_support
         if (self._strike_t is None and walker.swing == swing
-                and 0.0 < walker.t_step <= CYCLE_S + walker.p.dt + 1e-9   # began this cycle
-                and to_body(self._perception, self._ball_world)[0] <= p.strike_x):
-            self._strike_t = self._t       # this swing is the kick
-            self.strike_ball_x = to_body(self._perception, self._ball_world)[0]
+                and 0.0 < walker.t_step <= CYCLE_S + walker.p.dt + 1e-9):   # began this cycle
+            bx, by = to_body(self._perception, self._ball_world)
+            side = 1.0 if self.foot == "left" else -1.0
+            if bx <= p.strike_x and abs(by - side * p.foot_y) <= STRIKE_TOLERANCE_Y:
+                self._strike_t = self._t   # this swing is the kick
+                self.strike_ball_x, self.strike_ball_y = bx, by
         if self._strike_t is None or self.struck or walker.swing != swing:
             return q_ref
         u = (walker.t_step / ss - p.strike_from) / (p.strike_to - p.strike_from)
@@ -208,8 +226,7 @@ class KickMotion:
         p = self.params
         if self._strike_t is None and self._t >= p.max_wait_s:
             self.done = True                # the strike never began (the ball moved away)
-        elif self._strike_t is not None and self.struck and \
-                self._t - self._strike_t >= p.follow_s + 0.3:
+        elif self.struck and self._t - self._strike_t >= p.follow_s:
             self.done = True
         return message
 
@@ -318,6 +335,8 @@ class BallTracker:
 SPOT_TOLERANCE_X = 0.12
 SPOT_TOLERANCE_Y = 0.03
 HEADING_TOLERANCE = 0.12
+#: the share of the walker's envelope (``LEAGUE_ENVELOPE``, as an ellipsoid) the approach uses
+APPROACH_ENVELOPE_SHARE = 0.7
 
 
 def spot_error(ball: tuple[float, float], direction: float,
@@ -363,4 +382,10 @@ def approach_command(ball: tuple[float, float], direction: float,
     slow = max(0.0, 1.0 - abs(aim) / 0.8)               # turn first when far off
     vx = float(np.clip(1.5 * gx, -0.15, speed)) * slow
     vy = float(np.clip(1.5 * gy, -0.1, 0.1)) * slow
-    return vx, vy, turn
+    # the walker falls near the edge of its envelope when walking, stepping sideways and
+    # turning at once: keep the combined command within APPROACH_ENVELOPE_SHARE of it
+    e = LEAGUE_ENVELOPE
+    norm = math.sqrt((vx / (e.vx_forward if vx >= 0 else e.vx_backward)) ** 2
+                     + (vy / e.vy) ** 2 + (turn / e.turn) ** 2)
+    k = min(1.0, APPROACH_ENVELOPE_SHARE / max(norm, 1e-9))
+    return vx * k, vy * k, turn * k

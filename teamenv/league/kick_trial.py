@@ -33,8 +33,10 @@ from .observation import is_fallen
 #: is seen (the server applies a message's motor commands in order: this one overrides the
 #: walk controller's head target)
 LOOK_DOWN = 0.6
-#: after the kick the walk goes on on the spot this long before the robot stands (s)
+#: after the kick the robot walks on (``AFTER_KICK``, as a team following its ball would) this
+#: long before it stands (s)
 WIND_DOWN_S = 1.0
+AFTER_KICK = (0.0, 0.0, 0.0)
 #: where the ball lies (world, m): inside the left half, far from lines and the centre circle,
 #: so a 10 m kick along +-45 deg stays on the field and no referee rule moves the ball
 BALL = (-6.0, 0.0)
@@ -60,6 +62,7 @@ class KickTrial:
     foot: str | None
     upright_s: float = 0.0
     strike_ball_x: float | None = None
+    strike_ball_y: float | None = None
 
 
 def _wrap(a: float) -> float:
@@ -118,7 +121,7 @@ def kick_trial(start: tuple[float, float, float], target_yaw: float = 0.0, power
     for k in range(round(settle_s / CYCLE_S)):
         # the walk the kick leaves winds down for a second, then the robot stands
         command = kick.walker if kick.shares_walker else walker
-        msg = command.step((0.0, 0.0, 0.0), p) if k < round(WIND_DOWN_S / CYCLE_S) \
+        msg = command.step(AFTER_KICK, p) if k < round(WIND_DOWN_S / CYCLE_S) \
             else walker.stand(p)
         p = server.cycle({key: msg})[key]
         fell |= is_fallen(p)
@@ -132,7 +135,7 @@ def kick_trial(start: tuple[float, float, float], target_yaw: float = 0.0, power
     heading = math.atan2(d[1], d[0])
     return KickTrial(True, float(np.hypot(*d)), heading, _wrap(heading - target_yaw),
                      not is_fallen(p), fell, cycles * CYCLE_S, walked * CYCLE_S, kick.foot,
-                     watched * CYCLE_S, kick.strike_ball_x)
+                     watched * CYCLE_S, kick.strike_ball_x, kick.strike_ball_y)
 
 
 def spot_start(params: KickParams = LEAGUE_KICK, foot: str = "right", dx: float = 0.0,

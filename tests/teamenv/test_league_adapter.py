@@ -82,7 +82,11 @@ def test_requests_to_effectors():
     assert ctl.resets == 1
     enc.encode(Request(walk=(0.2, 0.0, 0.1)), p)
     enc.encode(Request(walk=(0.0, 0.0, 0.0), kick=(1.0, 0.0)), p)
-    assert ctl.commands[-2] == (0.2, 0.0, 0.1) and ctl.commands[-1][0] > 0.3
+    # the ball is in view, 1-2 m off: a kick request walks towards the kick spot
+    assert ctl.commands[-2] == (0.2, 0.0, 0.1) and ctl.commands[-1][0] > 0.1
+    through = RequestEncoder(ctl, "agent Alpha_1", kick=None)   # kicks as walks through
+    through.encode(Request(kick=(1.0, 0.0)), p)
+    assert ctl.commands[-1] == (0.4, 0.0, 0.0)
     with pytest.raises(LeagueError, match="agent Alpha_1: say 'hello' breaks the mj channel"):
         enc.encode(Request(say="hello"), p)
     assert enc.encode(Request(), p) == "(he1 0 0 0 0 0)"  # walks on the spot

@@ -16,13 +16,13 @@ from teamenv.league.kick import (
     LEAGUE_KICK,
     MOTORS,
     KickMotion,
-    _keyframes,
-    _mirror,
     approach_command,
     in_kick_spot,
+    kick_foot,
+    kick_heading,
     measured_angles,
 )
-from teamenv.league.perception import JointState, Perception, parse_perception
+from teamenv.league.perception import Perception, parse_perception
 
 pytestmark = pytest.mark.humanoid
 DATA = Path(__file__).parent / "league_data"
@@ -32,61 +32,96 @@ def _perception() -> Perception:
     return parse_perception((DATA / "first.txt").read_text().strip())
 
 
-def test_the_left_kick_is_the_right_kick_mirrored():
-    right = _keyframes(LEAGUE_KICK, 1.0, 0.0)
-    for _, q in right:
-        assert np.allclose(_mirror(_mirror(q)), q)
-    strike = dict(zip(MOTORS, right[2][1], strict=True))
-    left = dict(zip(MOTORS, _mirror(right[2][1]), strict=True))
-    assert left["lle1"] == strike["rle1"] and left["rle1"] == strike["lle1"]   # pitch kept
-    assert left["lle2"] == -strike["rle2"]                                     # roll flipped
-    # the right kick's shift moves the pelvis left: both hip rolls negative
-    assert strike["lle2"] < 0 and strike["rle2"] < 0
+def test_the_kicking_foot_and_the_heading_that_aims():
+    assert kick_foot((0.5, -0.1), 0.0) == "right" and kick_foot((0.5, 0.1), 0.0) == "left"
+    # along a kick 90 deg to the left, a ball ahead lies on the right of the kick line
+    assert kick_foot((0.5, 0.0), math.pi / 2) == "right"
+    # the ball leaves the foot deflected outwards: the body faces inwards by aim_bias
+    assert kick_heading(0.2, "right") == pytest.approx(0.2 + LEAGUE_KICK.aim_bias)
+    assert kick_heading(0.2, "left") == pytest.approx(0.2 - LEAGUE_KICK.aim_bias)
 
 
-def test_a_kick_starts_from_the_measured_angles_and_ends():
+class _Walker:
+    """A stand-in for the walker's phase, as ``WalkerController.step`` hands it to a kick."""
+
+    class p:  # noqa: N801 - mirrors LipmWalker.p
+        step_period, double_support, dt = 0.32, 0.06, 0.01
+
+    def __init__(self, swing, t_step):
+        self.swing, self.t_step = swing, t_step
+
+
+def test_the_strike_moves_only_the_kicking_leg_and_only_on_its_swing():
     p = _perception()
-    angles = measured_angles(p)
-    bent = Perception(**{**p.__dict__, "joints": {
-        **p.joints, "q_rlj4": JointState(1.0, 0.0)}})      # a walk left the right knee bent
-    kick = KickMotion()
-    kick.start(bent, 0.0, 1.0, foot="right")
-    assert kick.targets()[MOTORS.index("rle4")] == pytest.approx(1.0)
-    assert np.allclose(np.delete(kick.targets(), MOTORS.index("rle4")),
-                       np.delete(angles, MOTORS.index("rle4")))
-    steps = 0
-    while not kick.done:
-        msg = kick.step(bent)
-        steps += 1
-    assert steps == math.ceil(LEAGUE_KICK.duration_s / 0.02 - 1e-9)
-    assert msg.count("(") == len(MOTORS)                 # every motor commanded
-    with pytest.raises(LeagueError, match="step.*without a running kick"):
-        kick.step(bent)
+    kick = KickMotion(params=LEAGUE_KICK.with_(strike_x=5.0))  # any ball distance strikes
+    kick.start(p, 0.0, 1.0, ball=(0.4, -LEAGUE_KICK.foot_y))
+    assert kick.foot == "right"
+    kick._perception = p
+    q = np.zeros(len(MOTORS))
+    assert np.array_equal(kick._strike(_Walker("Left", 0.02), list(MOTORS), q), q)
+    assert kick.strike_ball_x is None                    # the other foot's swing: no strike
+    # the kicking foot's swing begins: this swing is the kick (nothing moves yet)
+    assert np.array_equal(kick._strike(_Walker("Right", 0.02), list(MOTORS), q), q)
+    assert kick.strike_ball_x is not None
+    peak = 0.26 * (LEAGUE_KICK.strike_from + LEAGUE_KICK.strike_to) / 2   # the bump's top
+    mid = kick._strike(_Walker("Right", peak), list(MOTORS), q)
+    moved = {MOTORS[k] for k in np.flatnonzero(mid)}
+    assert moved == {"rle1"}                             # hip flexes; the knee stays >= 0
+    assert mid[MOTORS.index("rle1")] == pytest.approx(-LEAGUE_KICK.strike_hip, abs=0.05)
+    bent = np.zeros(len(MOTORS))
+    bent[MOTORS.index("rle4")] = 1.0
+    out = kick._strike(_Walker("Right", peak), list(MOTORS), bent)
+    assert out[MOTORS.index("rle4")] == pytest.approx(1.0 - LEAGUE_KICK.strike_knee, abs=0.02)
+    weak = KickMotion(params=LEAGUE_KICK.with_(strike_x=5.0))
+    weak.start(p, 0.0, 0.0, ball=(0.4, -LEAGUE_KICK.foot_y))
+    weak._perception = p
+    weak._strike(_Walker("Right", 0.02), list(MOTORS), q)
+    soft = weak._strike(_Walker("Right", peak), list(MOTORS), q)
+    assert soft[MOTORS.index("rle1")] == pytest.approx(0.4 * mid[MOTORS.index("rle1")], rel=0.05)
+
+
+def test_a_kick_on_its_own_walker_starts_from_the_measured_angles():
+    p = _perception()
+    kick = KickMotion()                                  # not sharing a walker
+    kick.start(p, 0.0, 1.0, ball=(0.45, -0.11))
+    msg = kick.step(p)
+    sent = {m: math.radians(float(v)) for m, v in
+            (part.split()[:2] for part in msg.strip("()").split(")("))}
+    measured = dict(zip(MOTORS, measured_angles(p), strict=True))
+    # 0.02 s into the 0.2 s blend: a tenth of the way from the measured angles
+    assert max(abs(sent[m] - measured[m]) for m in MOTORS) < 0.15
+    assert len(sent) == len(MOTORS)                      # every motor commanded
 
 
 @pytest.mark.parametrize("kwargs, match", [
-    ({"power": 1.5}, "power 1.5 is not in 0..1"),
-    ({"power": float("nan")}, "power nan"),
-    ({"direction": float("inf")}, "direction inf is not finite"),
-    ({"foot": "middle"}, "foot 'middle'"),
+    ({"power": 1.5, "ball": (0.4, 0.1)}, "power 1.5 is not in 0..1"),
+    ({"power": float("nan"), "ball": (0.4, 0.1)}, "power nan"),
+    ({"direction": float("inf"), "ball": (0.4, 0.1)}, "direction inf is not finite"),
+    ({"foot": "middle", "ball": (0.4, 0.1)}, "foot 'middle'"),
+    ({}, "needs the ball's body-frame place"),
 ])
 def test_bad_kick_requests_are_named(kwargs, match):
     with pytest.raises(LeagueError, match=match):
         KickMotion().start(_perception(), **kwargs)
+    with pytest.raises(LeagueError, match="step.*without a running kick"):
+        KickMotion().step(_perception())
 
 
-def test_the_approach_walks_into_the_spot_and_faces_the_direction():
-    sx, sy = LEAGUE_KICK.spot_x, LEAGUE_KICK.spot_y
-    assert in_kick_spot((sx, -sy), 0.0) and in_kick_spot((sx, sy), 0.0)
+def test_the_approach_walks_into_the_spot_and_faces_the_kick_heading():
+    sx, sy, bias = LEAGUE_KICK.spot_x, LEAGUE_KICK.foot_y, LEAGUE_KICK.aim_bias
+    # lined up: the ball at the kicking foot's spot, the body facing the kick heading
+    assert in_kick_spot((sx, -sy), -bias) and in_kick_spot((sx, sy), bias)
     assert not in_kick_spot((sx, -sy), 0.5)              # faces the wrong way
-    assert not in_kick_spot((sx + 0.3, -sy), 0.0)        # too far
+    assert not in_kick_spot((sx + 0.3, -sy), -bias)      # too far
+    assert not in_kick_spot((sx, -sy - 0.08), -bias)     # off the foot's line
     vx, vy, turn = approach_command((2.0, 0.0), 0.0)
-    assert vx > 0.2 and abs(turn) < 0.2                  # far ahead: walk at it
+    assert vx > 0.15 and abs(turn) < 0.2                 # far ahead: walk at it
     assert approach_command((1.5, 1.5), 0.0)[2] > 0.3    # far left: turn left
-    vx, vy, turn = approach_command((sx, -sy), 0.6)      # at the spot, kick asked to the left
-    assert turn > 0.3
-    vx, vy, turn = approach_command((sx + 0.1, -sy), 0.0)
-    assert vx > 0.05 and abs(vy) < 0.05                  # a little short: step forward
+    assert approach_command((sx, -sy), 0.6)[2] > 0.15    # kick asked to the left: turn
+    vx, vy, turn = approach_command((sx + 0.1, -sy), -bias)
+    assert vx > 0.05 and abs(vy) < 0.05 and abs(turn) < 0.05   # a little short: step on
+    vx, vy, turn = approach_command((sx, -sy - 0.05), -bias)
+    assert vy < -0.02                                    # the ball too far right: step right
 
 
 # -- on the server's physics -----------------------------------------------------------------
@@ -153,21 +188,20 @@ def test_the_encoder_plays_a_kick_to_its_end_then_walks_again():
     from teamenv.league.kick_trial import BALL, LOOK_DOWN, spot_start
     from teamenv.league.local_server import LocalServer
 
-    class Counting(WalkerController):
-        steps = resets = 0
+    class Recording(WalkerController):
+        def __init__(self):
+            super().__init__()
+            self.commands = []
 
-        def step(self, command, perception):
-            self.steps += 1
-            return super().step(command, perception)
-
-        def reset(self):
-            self.resets += 1
-            super().reset()
+        def step(self, command, perception, adjust=None):
+            self.commands.append(tuple(command))
+            return super().step(command, perception, adjust)
 
     server = LocalServer()
     key = ("K", 1)
-    walker = Counting()
+    walker = Recording()
     enc = RequestEncoder(walker, "agent K_1", get_up=None)
+    assert enc.kick.shares_walker                        # the kick is a step of this gait
     p = server.join(*key)
     p = server.cycle({key: enc.encode(Request(beam=spot_start(LEAGUE_KICK, "right")), p)})[key]
     server.kick_off("Left")
@@ -178,15 +212,15 @@ def test_the_encoder_plays_a_kick_to_its_end_then_walks_again():
         p = server.cycle({key: walker.stand(p) + effectors.motor("he2", LOOK_DOWN, 0, 20, 0.5)})[key]
     p = server.cycle({key: enc.encode(Request(kick=(1.0, 0.0)), p)})[key]
     assert enc.kicking
-    steps, cycles = walker.steps, 1
-    while enc.kicking:      # walk requests while the kick runs are ignored
-        p = server.cycle({key: enc.encode(Request(walk=(0.3, 0.0, 0.0)), p)})[key]
-        cycles += 1
-    assert walker.steps == steps and cycles == math.ceil(LEAGUE_KICK.duration_s / 0.02 - 1e-9)
-    assert walker.resets >= 1                            # the walk starts afresh
-    enc.encode(Request(walk=(0.3, 0.0, 0.0)), p)
-    assert walker.steps == steps + 1
-    assert np.hypot(*np.subtract(server.ball_position()[:2], BALL)) > 0.3
+    while enc.kicking:      # the walk requests meanwhile are ignored
+        before = len(walker.commands)
+        p = server.cycle({key: enc.encode(Request(walk=(0.4, 0.0, 0.0)), p)})[key]
+        assert len(walker.commands) == before + 1 and walker.commands[-1][0] < 0.3
+        assert len(walker.commands) < 200
+    assert enc.kick.struck
+    enc.encode(Request(walk=(0.4, 0.0, 0.0)), p)
+    assert walker.commands[-1] == (0.4, 0.0, 0.0)        # walking again, the same gait
+    assert np.hypot(*np.subtract(server.ball_position()[:2], BALL)) > 1.0
 
 
 def test_a_robot_that_is_down_plays_the_get_up_motion_first():
