@@ -6,10 +6,11 @@ import json
 import signal
 import threading
 import time
+from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any, Iterator, Mapping
+from typing import Any
 
 from teamenv.capabilities import DEFAULT_LOCOMOTION_PROFILE
 from teamenv.config import RulesConfig
@@ -45,6 +46,15 @@ class MatchOptions:
         if unknown:
             raise ConfigError(f"match options: unknown key(s) {unknown}; known: {sorted(known)}")
         return cls(**dict(values))
+
+    def env_kwargs(self) -> dict[str, Any]:
+        """The ``SoccerParallelEnv`` keyword arguments that play a match with these options
+        (field, team size, rules, observation mode, vision, channel, locomotion profile): the
+        one translation of options into an env, for matches, tournaments and the optimizer."""
+        return dict(field=self.field, team_size=self.team_size,
+                    rules=RulesConfig(half_time_s=self.half_time_s, halves=self.halves),
+                    observation_mode=self.observation_mode, vision=self.vision,
+                    channel=self.channel, locomotion_profile=self.locomotion_profile)
 
     def to_dict(self) -> dict[str, Any]:
         """The options as a dict; ``vision`` only when set, so the match keys and stored
@@ -158,13 +168,10 @@ def play_match(
         options = MatchOptions()
     elif not isinstance(options, MatchOptions):
         options = MatchOptions.from_dict(options)
-    rules = RulesConfig(half_time_s=options.half_time_s, halves=options.halves)
     start = time.perf_counter()
-    env = SoccerParallelEnv(
-        field=options.field, team_size=options.team_size, left=left, right=right,
-        left_config=left_config, right_config=right_config, rules=rules,
-        observation_mode=options.observation_mode, vision=options.vision, channel=options.channel,
-        locomotion_profile=options.locomotion_profile, team_cycle_budget_s=cycle_time_budget_s)
+    env = SoccerParallelEnv(left=left, right=right, left_config=left_config,
+                            right_config=right_config, team_cycle_budget_s=cycle_time_budget_s,
+                            **options.env_kwargs())
     recorder = ReplayRecorder(env, replay_extras) if replay_path is not None else None
     forfeit: Forfeit | None = None
     goals: list[Goal] = []

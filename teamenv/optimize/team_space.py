@@ -17,16 +17,10 @@ from teamenv.optimize.search_space import Domain, SearchSpace, build_search_spac
 
 def team_config(team: str, base_config: Mapping[str, Any], options: MatchOptions) -> Any:
     """The config dataclass instance of ``team`` built with ``base_config`` for ``options``."""
-    from teamenv.config import RulesConfig
     from teamenv.env import SoccerParallelEnv
     from teamenv.optimize.search_space import SearchSpaceError
 
-    env = SoccerParallelEnv(
-        field=options.field, team_size=options.team_size, left=team,
-        left_config=dict(base_config), rules=RulesConfig(half_time_s=options.half_time_s,
-                                                         halves=options.halves),
-        observation_mode=options.observation_mode, vision=options.vision,
-        channel=options.channel, locomotion_profile=options.locomotion_profile)
+    env = SoccerParallelEnv(left=team, left_config=dict(base_config), **options.env_kwargs())
     try:
         config = getattr(env.teams["left"], "config", None)
     finally:

@@ -152,26 +152,21 @@ def validate_specs(specs: Iterable[TeamSpec], options: Any) -> dict[str, str]:
     the left side, which calls ``make_team`` with the match's TeamContext), so an unknown team,
     an unknown override key or a value the team rejects fails here, before anything runs.
     """
-    from teamenv.config import RulesConfig
     from teamenv.env import SoccerParallelEnv
     from teamenv.match import MatchOptions
     from teamenv.teams import team_version
 
     if not isinstance(options, MatchOptions):
         raise TournamentConfigError(f"match options: expected MatchOptions, got {options!r}")
-    kwargs = dict(field=options.field, team_size=options.team_size,
-                  observation_mode=options.observation_mode, vision=options.vision,
-                  channel=options.channel, locomotion_profile=options.locomotion_profile)
     try:
-        rules = RulesConfig(half_time_s=options.half_time_s, halves=options.halves)
-        SoccerParallelEnv(rules=rules, **kwargs).close()
+        kwargs = options.env_kwargs()
+        SoccerParallelEnv(**kwargs).close()
     except (ConfigError, ValueError, TypeError) as exc:
         raise TournamentConfigError(f"match options {options}: {exc}") from exc
     versions: dict[str, str] = {}
     for spec in specs:
         try:
-            env = SoccerParallelEnv(left=spec.name, left_config=spec.config_dict, rules=rules,
-                                    **kwargs)
+            env = SoccerParallelEnv(left=spec.name, left_config=spec.config_dict, **kwargs)
         except TeamLoadError as exc:
             raise TeamSpecError(f"team spec {spec.label!r}: {exc}") from exc
         except Exception as exc:  # the team's constructor rejected its config
