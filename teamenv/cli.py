@@ -31,7 +31,8 @@ def _add_match(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--observation", default="state", choices=("state", "vision"),
                    help="observation mode of the teams: true state or the league's vision")
     p.add_argument("--vision", default=None,
-                   help="vision profile with --observation vision: simspark (default) | mj")
+                   help="vision profile with --observation vision: simspark (default) | mj | "
+                        "mj_noisy")
     p.add_argument("--left-config", default="{}", help="JSON dict of the left team's config")
     p.add_argument("--right-config", default="{}", help="JSON dict of the right team's config")
     p.add_argument("--replay", type=Path, help="save a replay (.npz) here")

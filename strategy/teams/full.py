@@ -11,8 +11,6 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-import numpy as np
-
 from strategy.behaviours.control import team_actions
 from strategy.behaviours.skills import Skills
 from strategy.geometry import BallRoll

@@ -141,9 +141,9 @@ def test_no_strategy_module_defines_a_kick_distance_or_body_speed():
                 targets.append((node.target.id, node.value))
             elif isinstance(node, ast.arguments):
                 args = node.posonlyargs + node.args
-                for a, d in zip(args[len(args) - len(node.defaults):], node.defaults):
+                for a, d in zip(args[len(args) - len(node.defaults):], node.defaults, strict=True):
                     targets.append((a.arg, d))
-                for a, d in zip(node.kwonlyargs, node.kw_defaults):
+                for a, d in zip(node.kwonlyargs, node.kw_defaults, strict=True):
                     targets.append((a.arg, d))
             for name, value in targets:
                 if value is None or not any(w in name.lower() for w in body_words):

@@ -6,7 +6,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import pytest
 
 from strategy.behaviours.motion import KEEP_OFF_MARGIN_M, go_to, keep_off_teammates
 from strategy.perception.worldmodel import WorldModel

@@ -19,6 +19,7 @@ from rcsssmj.games.soccer.sim.soccer_sim import SoccerSimulation  # noqa: E402
 from rcsssmj.games.soccer.soccer_fields import create_soccer_field  # noqa: E402
 from rcsssmj.games.soccer.soccer_rules import create_soccer_rule_book  # noqa: E402
 
+
 def server_markers(field_version: str) -> dict[str, np.ndarray]:
     """The vision markers rcsssmj's soccer simulation adds to its world for a field."""
     sim = SoccerSimulation(field=create_soccer_field(field_version))
