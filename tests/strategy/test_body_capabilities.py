@@ -68,6 +68,14 @@ def test_the_env_gives_the_team_its_profiles_body(profile):
     env.close()
 
 
+def test_the_league_bridge_derives_its_teams_body_the_same_way():
+    from teamenv.league.match import LOCOMOTION_PROFILE, team_context
+
+    context = team_context("left", 7)
+    assert context.body == body_capabilities(LOCOMOTION_PROFILE)
+    assert context.kick_reach == load_profile(LOCOMOTION_PROFILE).kick_reach
+
+
 def test_the_default_context_is_the_env_default_profile():
     env = teamenv.parallel_env(left="full", team_size=1)
     assert env.teams["left"].context.body == body_capabilities(DEFAULT_LOCOMOTION_PROFILE)
