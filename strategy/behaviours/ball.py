@@ -146,17 +146,20 @@ def in_kick_reach(wm: WorldModel, skills: Skills) -> bool:
 
 
 def quick_kick(wm: WorldModel, skills: Skills, preferred: ArrayLike | None = None,
-               length_m: float = 7.0) -> ControlRequest | None:
+               length_m: float | None = None) -> ControlRequest | None:
     """Kick now, in the best direction the body can kick from where it stands, or None.
 
     Candidates: ``preferred`` (if within ``skills.kick_max_angle`` of the heading) and the
     directions every 15 degrees within that angle. A direction is worth its gain towards
     their goal plus its clearance from the opponents (capped), never backwards (towards our
-    goal line by more than 1 m) and never off the pitch. None when the ball is out of reach
-    or every direction is worthless.
+    goal line by more than 1 m) and never off the pitch, judged at ``length_m`` from the ball
+    (None: the body's mean full-power kick). None when the ball is out of reach or every
+    direction is worthless.
     """
     if not in_kick_reach(wm, skills):
         return None
+    if length_m is None:  # where a full-power kick of this body rolls
+        length_m = skills.kick_distance_m
     f = wm.field
     opps = wm.opponents[wm.opponents_present]
     angles = list(wm.heading + np.arange(-skills.kick_max_angle, skills.kick_max_angle + 1e-9,
