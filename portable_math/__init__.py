@@ -1,27 +1,39 @@
-"""Float64 elementary functions that give the same bits on every x86-64 CPU.
+"""Float64 elementary functions that give the same bits on every x86-64 CPU with AVX2.
 
 NumPy picks a kernel for ``exp``, ``log``, ``arctan2``, ``tanh``, ``power`` ... by the CPU it
 runs on (AVX-512, AVX2, SSE), and the kernels round the last bit differently; a simulation
 that feeds such bits back into itself (chaos) then plays another match on another machine.
-Everything here is computed only with operations IEEE 754 defines exactly — ``+ - * /``,
-``sqrt``, ``floor``, ``ldexp``/``frexp``, comparisons, ``copysign`` — whose result does not
-depend on the SIMD width, so the same input gives the same output on every machine with the
-same NumPy. Accuracy: within a few ulp of the correctly rounded value (tested against NumPy
-and mpmath), with C99's special values (signed zeros, infinities, NaN).
+Two paths here avoid those kernels, each fixed for given inputs:
 
-Functions take scalars or arrays (any float dtype; computed in float64) and return float64
-like the NumPy function of the same name. This package is a leaf below ``comms`` and
-``locomotion``: it imports nothing but NumPy.
+- small inputs (at most ``SMALL`` elements, the common case on the match path) go element by
+  element through Python's ``math`` module, the C library's scalar functions, which choose
+  their code path by FMA/AVX2 support only (the same on every AVX2 machine);
+- larger arrays are computed only with operations IEEE 754 rounds exactly — ``+ - * /``,
+  ``sqrt``, ``floor``, ``ldexp``/``frexp``, comparisons, ``copysign`` — whose result does not
+  depend on the SIMD width or on any library: within 1-2 ulp of the correctly rounded value
+  (tested against mpmath), with C99's special values (signed zeros, infinities, NaN).
+
+So the same input gives the same output on every such machine with the same NumPy and C
+library; the two paths may differ from each other in the last bit. Functions take scalars or
+arrays (any float dtype; computed in float64) and return float64 like the NumPy function of
+the same name. This package is a leaf below ``comms`` and ``locomotion``: it imports nothing
+but NumPy.
 """
 
 from __future__ import annotations
 
+import math
+from itertools import repeat
 from typing import Any
 
 import numpy as np
 
 __all__ = ["arccos", "arcsin", "arctan", "arctan2", "exp", "exp2", "expm1", "log", "log2",
-           "log10", "matmul", "power", "tanh"]
+           "log10", "matmul", "power", "tanh", "SMALL"]
+
+SMALL = 64
+"""Inputs with at most this many elements take the C library's scalar functions (faster than
+the vectorised path below ~100 elements)."""
 
 # Constants split hi + lo (hi + lo = the value to ~2^-106); the HI parts of ln 2 and log10(2)
 # end in zero bits so that k * HI is exact for every binary exponent k.
@@ -59,9 +71,31 @@ def _out(result: np.ndarray) -> Any:
     return result[()] if result.ndim == 0 else result
 
 
+def _libm(function: Any, x: np.ndarray, y: np.ndarray | None = None) -> Any:
+    """``function`` (a ``math`` function) on each element of a small ``x`` (and ``y``: same
+    shape, or 0-d), as a float64 array or scalar; None where the vectorised path must answer:
+    a large input, other shapes, or a value outside the ``math`` function's domain (it raises
+    where C99 returns inf, NaN or -inf)."""
+    if x.size > SMALL:
+        return None
+    args = [x.ravel().tolist()]
+    if y is not None:
+        if y.ndim == 0:
+            args.append(repeat(float(y)))
+        elif y.shape == x.shape:
+            args.append(y.ravel().tolist())
+        else:
+            return None
+    try:
+        values = list(map(function, *args))
+    except (ValueError, OverflowError):
+        return None
+    return np.float64(values[0]) if x.ndim == 0 else np.array(values).reshape(x.shape)
+
+
 def _horner(z: np.ndarray, coefficients: tuple[float, ...]) -> np.ndarray:
-    p = np.full_like(z, coefficients[0])
-    for c in coefficients[1:]:
+    p = z * coefficients[0] + coefficients[1]
+    for c in coefficients[2:]:
         p = p * z + c
     return p
 
@@ -77,9 +111,18 @@ def _two_prod(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return p, e
 
 
+def _clamp(x: np.ndarray, low: float, high: float) -> np.ndarray:
+    return np.minimum(np.maximum(x, low), high)  # keeps NaN
+
+
+# NaN flows through the arithmetic below; casting it to an integer exponent is harmless (the
+# mantissa is NaN already) but warns, hence the errstate around each function's body.
+_QUIET = dict(invalid="ignore", over="ignore", under="ignore", divide="ignore")
+
+
 # -- exp family ------------------------------------------------------------------------------
 def _reduce_exp(hi: np.ndarray, lo: np.ndarray | float = 0.0) -> tuple[np.ndarray, np.ndarray]:
-    """hi + lo = n ln2 + r with n integral and |r| <= ln2/2 (hi clamped to the finite range)."""
+    """hi + lo = n ln2 + r with n integral and |r| <= ln2/2 (hi within the finite range)."""
     n = np.floor(hi * _INV_LN2 + 0.5)
     r = (hi - n * _LN2_HI) + (lo - n * _LN2_LO)
     return n.astype(np.int32), r
@@ -90,54 +133,61 @@ def _expm1_reduced(r: np.ndarray) -> np.ndarray:
 
 
 def _exp_hi_lo(hi: np.ndarray, lo: np.ndarray | float = 0.0) -> np.ndarray:
-    """exp(hi + lo) for finite hi (NaN-free); overflows to inf and underflows to 0."""
-    hi = np.clip(hi, -746.0, 710.0)
-    n, r = _reduce_exp(hi, lo)
-    with np.errstate(over="ignore", under="ignore"):
-        return np.ldexp(1.0 + _expm1_reduced(r), n)
+    """exp(hi + lo); overflows to inf and underflows to 0 (call under _QUIET)."""
+    n, r = _reduce_exp(_clamp(hi, -746.0, 710.0), lo)
+    return np.ldexp(1.0 + _expm1_reduced(r), n)
 
 
-def _finite_or_zero(x: np.ndarray) -> np.ndarray:
-    return np.where(np.isnan(x), 0.0, x)
+def _pow2(x: float) -> float:
+    return math.pow(2.0, x)
 
 
 def exp(x: Any) -> Any:
     """e**x."""
     x = _array(x)
-    y = _exp_hi_lo(_finite_or_zero(x))
-    return _out(np.where(np.isnan(x), x, y))
+    small = _libm(math.exp, x)
+    if small is not None:
+        return small
+    with np.errstate(**_QUIET):
+        return _out(_exp_hi_lo(x))
 
 
 def exp2(x: Any) -> Any:
     """2**x."""
     x = _array(x)
-    xc = np.clip(_finite_or_zero(x), -1100.0, 1100.0)
-    n = np.floor(xc + 0.5)
-    f = xc - n  # exact
-    r = f * _LN2_HI + f * _LN2_LO
-    with np.errstate(over="ignore", under="ignore"):
-        y = np.ldexp(1.0 + _expm1_reduced(r), n.astype(np.int32))
-    return _out(np.where(np.isnan(x), x, y))
+    small = _libm(_pow2, x)
+    if small is not None:
+        return small
+    with np.errstate(**_QUIET):
+        xc = _clamp(x, -1100.0, 1100.0)
+        n = np.floor(xc + 0.5)
+        f = xc - n  # exact
+        r = f * _LN2_HI + f * _LN2_LO
+        return _out(np.ldexp(1.0 + _expm1_reduced(r), n.astype(np.int32)))
 
 
 def expm1(x: Any) -> Any:
     """e**x - 1, accurate near 0."""
     x = _array(x)
-    xc = np.clip(_finite_or_zero(x), -60.0, 710.0)
-    n, r = _reduce_exp(xc)
-    em = _expm1_reduced(r)
-    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+    small = _libm(math.expm1, x)
+    if small is not None:
+        return small
+    with np.errstate(**_QUIET):
+        n, r = _reduce_exp(_clamp(x, -60.0, 710.0))
+        em = _expm1_reduced(r)
         y = np.where(n == 0, em, np.ldexp(em, n) + (np.ldexp(1.0, n) - 1.0))
-    y = np.where(x == 0.0, x, y)  # expm1(-0) = -0
-    return _out(np.where(np.isnan(x), x, y))
+        return _out(np.where(x == 0.0, x, y))  # expm1(-0) = -0
 
 
 def tanh(x: Any) -> Any:
     """Hyperbolic tangent, from expm1(-2|x|)."""
     x = _array(x)
-    em = expm1(-2.0 * np.abs(x))
-    t = -em / (em + 2.0)
-    return _out(np.copysign(t, x))
+    small = _libm(math.tanh, x)
+    if small is not None:
+        return small
+    with np.errstate(**_QUIET):
+        em = _array(expm1(-2.0 * np.abs(x)))
+        return _out(np.copysign(-em / (em + 2.0), x))
 
 
 # -- log family ------------------------------------------------------------------------------
@@ -146,53 +196,59 @@ def _log_parts(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.nd
     small correction c with log(1 + f) = f - hfsq + c."""
     m, k = np.frexp(x)
     low = m < _SQRT_HALF
-    m = np.where(low, m + m, m)
-    k = k - low
+    m = m + m * low
     f = m - 1.0
     s = f / (2.0 + f)
     z = s * s
     hfsq = 0.5 * f * f
     c = s * (hfsq + z * _horner(z, _LOG_R))
-    return k.astype(np.float64), f, hfsq, c
+    return k - low, f, hfsq, c
 
 
 def _log_domain(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """C99 special values of log-like functions around a result ``y`` for the regular x."""
-    y = np.where(x == 0.0, -np.inf, y)
-    y = np.where(x == np.inf, np.inf, y)
-    return np.where((x < 0.0) | np.isnan(x), np.nan, y)
-
-
-def _regular(x: np.ndarray) -> np.ndarray:
-    return np.where((x > 0.0) & (x < np.inf), x, 1.0)
+    """C99's special values of log-like functions (0, inf, negative, NaN) in ``y``."""
+    if ((x > 0.0) & (x < np.inf)).all():
+        return y
+    y = np.where(x > 0.0, y, np.where(x == 0.0, -np.inf, np.nan))
+    return np.where(x == np.inf, np.inf, y)
 
 
 def log(x: Any) -> Any:
     """Natural logarithm."""
     x = _array(x)
-    k, f, hfsq, c = _log_parts(_regular(x))
-    y = k * _LN2_HI - ((hfsq - (c + k * _LN2_LO)) - f)
-    return _out(_log_domain(x, y))
+    small = _libm(math.log, x)
+    if small is not None:
+        return small
+    with np.errstate(**_QUIET):
+        k, f, hfsq, c = _log_parts(x)
+        return _out(_log_domain(x, k * _LN2_HI - ((hfsq - (c + k * _LN2_LO)) - f)))
 
 
 def log2(x: Any) -> Any:
     """Base-2 logarithm (exact for powers of two)."""
     x = _array(x)
-    k, f, hfsq, c = _log_parts(_regular(x))
-    y = k + (f - (hfsq - c)) * _INV_LN2
-    return _out(_log_domain(x, y))
+    small = _libm(math.log2, x)
+    if small is not None:
+        return small
+    with np.errstate(**_QUIET):
+        k, f, hfsq, c = _log_parts(x)
+        return _out(_log_domain(x, k + (f - (hfsq - c)) * _INV_LN2))
 
 
 def log10(x: Any) -> Any:
     """Base-10 logarithm."""
     x = _array(x)
-    k, f, hfsq, c = _log_parts(_regular(x))
-    y = k * _LOG10_2_HI + ((f - (hfsq - c)) * _INV_LN10 + k * _LOG10_2_LO)
-    return _out(_log_domain(x, y))
+    small = _libm(math.log10, x)
+    if small is not None:
+        return small
+    with np.errstate(**_QUIET):
+        k, f, hfsq, c = _log_parts(x)
+        y = k * _LOG10_2_HI + ((f - (hfsq - c)) * _INV_LN10 + k * _LOG10_2_LO)
+        return _out(_log_domain(x, y))
 
 
 def _log_hi_lo(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """log(a) = hi + lo to ~2^-60 relative, for positive finite a."""
+    """log(a) = hi + lo to ~2^-62 relative, for positive finite a."""
     k, f, _, c = _log_parts(a)
     p, pe = _two_prod(f, f)
     hp, hpe = 0.5 * p, 0.5 * pe
@@ -212,28 +268,32 @@ def power(x: Any, y: Any) -> Any:
 
     Within 2 ulp while |y log x| <= 10; log x carries ~2^-62 relative error, so the error grows
     by about 1 ulp per 35 of |y log x| (up to ~20 ulp near overflow)."""
+    x = _array(x)
     if np.ndim(y) == 0 and float(y) == 2.0:  # exact, as NumPy's own fast path
-        x = _array(x)
         return _out(x * x)
-    x, y = np.broadcast_arrays(_array(x), _array(y))
-    a = np.abs(x)
-    hi, lo = _log_hi_lo(_regular(a))
-    hi = np.where(a == 0.0, -np.inf, np.where(a == np.inf, np.inf, hi))
-    with np.errstate(invalid="ignore", over="ignore"):
-        yc = np.clip(y, -1e290, 1e290)
-        p, pe = _two_prod(yc, np.where(np.isfinite(hi), hi, 0.0))
-        ph = np.where(np.isfinite(hi), p, y * hi)
-        pl = np.where(np.isfinite(ph) & (np.abs(ph) < 800.0), pe + yc * lo, 0.0)
-        ph = np.where(np.isnan(ph), 0.0, ph)     # y == 0 with a in {0, inf}: fixed below
-        r = _exp_hi_lo(np.clip(ph, -800.0, 800.0), pl)
-        integral = np.floor(y) == y
-        odd = integral & np.isfinite(y) & (np.fmod(y, 2.0) != 0.0)
-    r = np.where(np.signbit(x) & odd, -r, r)
-    r = np.where((x < 0.0) & np.isfinite(x) & ~integral & np.isfinite(y), np.nan, r)
-    r = np.where((a == 1.0) & np.isinf(y), 1.0, r)  # (-1) ** +-inf
-    r = np.where(np.isnan(x) | np.isnan(y), np.nan, r)
-    r = np.where((y == 0.0) | (x == 1.0), 1.0, r)
-    return _out(r)
+    y = _array(y)
+    small = _libm(math.pow, x, y) if x.shape == np.broadcast_shapes(x.shape, y.shape) else None
+    if small is not None:
+        return small
+    with np.errstate(**_QUIET):
+        a = np.abs(x)
+        regular = (a > 0.0) & (a < np.inf)
+        hi, lo = _log_hi_lo(np.where(regular, a, 1.0))
+        yc = _clamp(y, -1e290, 1e290)
+        ph, pl = _two_prod(yc, hi)
+        pl = pl + yc * lo
+        r = _exp_hi_lo(ph, np.where(np.abs(ph) < 800.0, pl, 0.0))
+        if not (regular.all() and np.isfinite(y).all()):
+            log_a = np.where(a == 0.0, -np.inf, np.where(a == np.inf, np.inf, 0.0))
+            r = np.where(regular, r, _exp_hi_lo(y * log_a))  # 0, inf, NaN: no rounding
+            r = np.where((a == 1.0) & np.isinf(y), 1.0, r)  # (-1) ** +-inf
+        if (x < 0.0).any() or np.signbit(x).any():
+            integral = np.floor(y) == y
+            odd = integral & np.isfinite(y) & (np.fmod(y, 2.0) != 0.0)
+            r = np.where(np.signbit(x) & odd, -r, r)
+            r = np.where((x < 0.0) & np.isfinite(x) & ~integral & np.isfinite(y), np.nan, r)
+        r = np.where(np.isnan(x) | np.isnan(y), np.nan, r)
+        return _out(np.where((y == 0.0) | (x == 1.0), 1.0, r))
 
 
 # -- inverse trigonometric ------------------------------------------------------------------
@@ -249,36 +309,43 @@ def _atan_unit(a: np.ndarray) -> np.ndarray:
 
 def arctan2(y: Any, x: Any) -> Any:
     """Angle of the point (x, y), in [-pi, pi], with C99's signed zeros and infinities."""
-    y, x = np.broadcast_arrays(_array(y), _array(x))
-    ay, ax = np.abs(y), np.abs(x)
-    steep = ay > ax
-    num = np.where(steep, ax, ay)
-    den = np.where(steep, ay, ax)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        a = num / den
-    a = np.where(den == 0.0, 0.0, a)
-    a = np.where(np.isinf(ax) & np.isinf(ay), 1.0, a)
-    nan = np.isnan(a)
-    base = _atan_unit(np.where(nan, 0.0, a))
-    back = np.signbit(x)
-    th = np.where(steep,
-                  np.where(back, _PIO2_HI + (base + _PIO2_LO), _PIO2_HI - (base - _PIO2_LO)),
-                  np.where(back, _PI_HI - (base - _PI_LO), base))
-    th = np.where(nan, np.nan, th)
-    return _out(np.copysign(th, y))
+    y, x = _array(y), _array(x)
+    small = _libm(math.atan2, y, x) if y.shape == x.shape else None
+    if small is not None:
+        return small
+    with np.errstate(**_QUIET):
+        ay, ax = np.abs(y), np.abs(x)
+        a = np.minimum(ay, ax) / np.maximum(ay, ax)
+        special = np.isnan(a)  # 0/0, inf/inf or a NaN argument
+        if special.any():
+            a = np.where(np.isinf(ax) & np.isinf(ay), 1.0, a)
+            a = np.where((ax == 0.0) & (ay == 0.0), 0.0, a)
+            special = np.isnan(a)
+            a = np.where(special, 0.0, a)
+        base = _atan_unit(a)
+        steep = ay > ax
+        th = np.where(steep, _PIO2_HI - (np.copysign(base, x) - _PIO2_LO),
+                      np.where(np.signbit(x), _PI_HI - (base - _PI_LO), base))
+        if special.any():
+            th = np.where(special, np.nan, th)
+        return _out(np.copysign(th, y))
 
 
 def arctan(x: Any) -> Any:
     """Inverse tangent, in [-pi/2, pi/2]."""
     x = _array(x)
-    a = np.abs(x)
-    big = a > 1.0
-    with np.errstate(divide="ignore"):
-        u = np.where(big, 1.0 / np.where(big, a, 1.0), a)
-    base = _atan_unit(np.where(np.isnan(u), 0.0, u))
-    th = np.where(big, _PIO2_HI - (base - _PIO2_LO), base)
-    th = np.where(np.isnan(x), np.nan, th)
-    return _out(np.copysign(th, x))
+    small = _libm(math.atan, x)
+    if small is not None:
+        return small
+    with np.errstate(**_QUIET):
+        a = np.abs(x)
+        big = a > 1.0
+        u = np.where(big, 1.0 / a, a)
+        nan = np.isnan(u)
+        base = _atan_unit(np.where(nan, 0.0, u))
+        th = np.where(big, _PIO2_HI - (base - _PIO2_LO), base)
+        th = np.where(nan, np.nan, th)
+        return _out(np.copysign(th, x))
 
 
 def _cosine_side(x: np.ndarray) -> np.ndarray:
@@ -289,12 +356,18 @@ def _cosine_side(x: np.ndarray) -> np.ndarray:
 def arcsin(x: Any) -> Any:
     """Inverse sine, in [-pi/2, pi/2]; NaN outside [-1, 1]."""
     x = _array(x)
+    small = _libm(math.asin, x)
+    if small is not None:
+        return small
     return arctan2(x, _cosine_side(x))
 
 
 def arccos(x: Any) -> Any:
     """Inverse cosine, in [0, pi]; NaN outside [-1, 1]."""
     x = _array(x)
+    small = _libm(math.acos, x)
+    if small is not None:
+        return small
     return arctan2(_cosine_side(x), x)
 
 

@@ -2,11 +2,12 @@
 
 ``python -m tests.golden`` prints the current hashes; ``tests/golden_hashes.json`` holds the
 committed ones (recorded before the speed work of issue 16) and
-``tests/test_golden_hashes.py`` compares the two. Both run under ``PINNED_ENV``: NumPy's SIMD
-kernels (AVX-512 vs AVX2) and OpenBLAS's kernels round the last bit of a few functions
-differently (the particle filter of vision mode shows it), so the hashes are taken with the
-portable baseline of each, the same on every x86-64 machine with AVX2. A hash covers every cycle's full state
-(``env.state()``: bodies, velocities, play mode, clock, score) of a whole match, or for the
+``tests/test_golden_hashes.py`` compares the two under this CPU's own NumPy/OpenBLAS kernels,
+under AVX2-only kernels and under ``PINNED_ENV`` (NumPy's SSE baseline, OpenBLAS's Haswell
+kernels): the simulation and the built-in teams use ``portable_math`` where those kernels round
+differently, so all three give the same hashes. A hash covers every cycle's full state
+(``env.state()``: bodies, velocities, play mode, clock, score) and what each built-in team
+believed (``annotations()``: own pose, ball, role) of a whole match, or for the
 bare env every value that ``reset``/``step`` return, in a canonical byte form (so a lazily
 built mapping hashes like an eager one).
 """
@@ -92,6 +93,10 @@ def match_hash(left: str, right: str, field: str, team_size: int, half_time_s: f
     while not env.episode_over:
         env.step({})
         h.update(env.state().tobytes())
+        for side in sorted(env.teams):  # the teams' beliefs show a last-bit change at once
+            annotations = getattr(env.teams[side], "annotations", None)
+            if annotations is not None:
+                _feed(h, annotations())
     h.update(repr(tuple(env.sim.referee.score)).encode())
     env.close()
     return h.hexdigest()
@@ -128,7 +133,7 @@ def current_hashes() -> dict[str, str]:
 
 
 if __name__ == "__main__":
-    # python -m tests.golden [--write]: run under PINNED_ENV (the test does it for you)
+    # python -m tests.golden [--write]: any NumPy/OpenBLAS setting gives the same hashes
     hashes = current_hashes()
     json.dump(hashes, sys.stdout, indent=2, sort_keys=True)
     print()

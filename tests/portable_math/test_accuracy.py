@@ -81,26 +81,48 @@ def same_values(got, want, ulp: int = 4) -> bool:
     return bool(np.all(close & (np.signbit(got) == np.signbit(want)) | np.isnan(want)))
 
 
+# the C library's path (at most pm.SMALL elements) and the vectorised one
+PATHS = {"small": 1, "vectorised": 4}
+
+
+@pytest.mark.parametrize("path", PATHS)
 @pytest.mark.parametrize("name", ["exp", "exp2", "expm1", "tanh", "log", "log2", "log10",
                                   "arctan", "arcsin", "arccos"])
-def test_one_argument_special_values_as_numpy(name):
+def test_one_argument_special_values_as_numpy(name, path):
+    x = np.tile(SPECIAL, PATHS[path])
+    assert (len(x) <= pm.SMALL) == (path == "small")
     with np.errstate(all="ignore"):
-        want = getattr(np, name)(SPECIAL)
-    got = getattr(pm, name)(SPECIAL)
-    bad = [(x, g, w) for x, g, w in zip(SPECIAL, got, want) if not same_values(g, w)]
+        want = getattr(np, name)(x)
+    got = getattr(pm, name)(x)
+    bad = [(a, g, w) for a, g, w in zip(x, got, want, strict=True) if not same_values(g, w)]
     assert not bad, bad
 
 
+@pytest.mark.parametrize("path", PATHS)
 @pytest.mark.parametrize("name", ["arctan2", "power"])
-def test_two_argument_special_values_as_numpy(name):
+def test_two_argument_special_values_as_numpy(name, path):
     x, y = np.meshgrid(SPECIAL, SPECIAL)
+    if path == "vectorised":
+        x, y = x.ravel(), y.ravel()  # one call, 625 elements
     with np.errstate(all="ignore"):
         want = getattr(np, name)(x, y)
-    got = getattr(pm, name)(x, y)
+        got = np.array([getattr(pm, name)(a, b) for a, b in zip(x, y, strict=True)])
     ulp = 32 if name == "power" else 4  # power(1.5, 709.8): |y log x| = 288 (see its docstring)
-    bad = [(a, b, g, w) for a, b, g, w in zip(x.ravel(), y.ravel(), np.ravel(got), want.ravel())
+    bad = [(a, b, g, w) for a, b, g, w in zip(x.ravel(), y.ravel(), got.ravel(), want.ravel(),
+                                              strict=True)
            if not same_values(g, w, ulp)]
     assert not bad, bad[:10]
+
+
+@pytest.mark.parametrize("name, libm", [("exp", math.exp), ("log", math.log),
+                                        ("tanh", math.tanh), ("arctan", math.atan),
+                                        ("log10", math.log10), ("expm1", math.expm1)])
+def test_small_inputs_take_the_c_library_scalar_functions(name, libm):
+    x = np.abs(wide[: pm.SMALL]) + 0.5
+    assert getattr(pm, name)(x).tolist() == [libm(v) for v in x.tolist()]
+    assert getattr(pm, name)(float(x[0])) == libm(float(x[0]))
+    assert pm.arctan2(wide[:5], tiny[:5]).tolist() == list(map(math.atan2, wide[:5], tiny[:5]))
+    assert pm.power(x, 1.7).tolist() == [math.pow(v, 1.7) for v in x.tolist()]
 
 
 def test_arctan2_quadrants_and_signed_zeros():
