@@ -36,6 +36,10 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    "one is an error)")
     p.add_argument("--log-dir", default=None, help="where the server's log goes (default: tmp)")
     p.add_argument("--server", default="real", choices=("real", "local"), help=SERVER_HELP)
+    p.add_argument("--walker", default=None,
+                   help="the robots' walk controller: network (the league's reference walking "
+                        "network, about 1.2 m/s; the default) or lipm (our LIPM walker, "
+                        "about 0.55 m/s)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=_run)
 
@@ -100,8 +104,9 @@ def _play(args: argparse.Namespace) -> int:
         record_league_match,
     )
 
+    walker = {} if args.walker is None else {"walker": args.walker}
     options = LeagueMatchOptions(team_size=args.team_size, game_s=args.seconds,
-                                 kick_off=args.kick_off, server=args.server)
+                                 kick_off=args.kick_off, server=args.server, **walker)
     if args.db:
         check_league_record(args.db, args.name, args.left, args.right)  # before playing
     bar = tqdm(total=round(args.seconds, 2), unit="s game", disable=args.no_progress,

@@ -7,9 +7,10 @@ with ``teamenv.teams.make_team`` exactly as the env builds it for ``observation_
 ``vision="mj"``, ``channel="mj"`` on ``mj7v7`` (the ``TeamContext`` says so), reset with the
 seed the env would give it, and called once per server cycle with every agent's observation
 from ``VisionObservationBuilder`` (the env's Dict layout). Its actions are checked by the env's
-own action parser (the same errors) and sent through ``RequestEncoder``: walk through our T1
-walker, a kick as a walk through the ball, beam (only in BeforeKickOff and after a goal, as in
-the env; refused otherwise) and say (``mj`` channel text).
+own action parser (the same errors) and sent through ``RequestEncoder``: walk through the
+chosen walk controller (``WALKERS``: the league's reference walking network by default, or our
+LIPM walker), a kick as a walk through the ball, beam (only in BeforeKickOff and after a goal,
+as in the env; refused otherwise) and say (``mj`` channel text).
 """
 
 from __future__ import annotations
@@ -36,7 +37,7 @@ from teamenv.teams import team_context as env_team_context
 from teamenv.tournament.spec import parse_team_spec
 
 from .adapter import Request, RequestEncoder
-from .controller import CYCLE_S, WalkerController
+from .controller import CYCLE_S, LocomotionController, WalkerController
 from .errors import LeagueError
 from .observation import SAID_MEMORY_CYCLES, VisionObservationBuilder
 from .perception import Perception
@@ -50,18 +51,39 @@ FIELD = "mj7v7"
 LOCOMOTION_PROFILE = "t1_mj"
 
 
+def _network_walker() -> LocomotionController:
+    from .network_walk import NetworkWalkController
+
+    return NetworkWalkController()
+
+
+#: the walk controllers a league match can give its robots, by name: ``network`` (the league's
+#: reference walking network through ``NETWORK_ENVELOPE``: 1.23 m/s forward and 1.9 rad/s
+#: turning on LocalServer, never down walking straight, turning or in place in the comparison
+#: of docs/league.md, where ours fell in 1 of 10 start poses and in 7 of 10 switching runs) is
+#: the default, as the faster one that stays up; ``lipm`` is our LIPM walker
+#: (``LEAGUE_ENVELOPE``, 0.55 m/s)
+WALKERS: dict[str, Callable[[], LocomotionController]] = {
+    "network": _network_walker,
+    "lipm": WalkerController,
+}
+DEFAULT_WALKER = "network"
+
+
 @dataclass(frozen=True)
 class LeagueMatchOptions:
     """team_size: players per side (1-7); game_s: game time to play (s, one half); rules:
     the server's rule book; kick_off: the side that kicks off; server: "real" (rcssservermj,
     a child process, over TCP) or "local" (``LocalServer``: the same simulation, referee and
-    protocol code in this process, no sockets; seeded, so the same seed replays a match)."""
+    protocol code in this process, no sockets; seeded, so the same seed replays a match);
+    walker: the robots' walk controller, a name in ``WALKERS``."""
 
     team_size: int = MAX_TEAM_SIZE
     game_s: float = 30.0
     rules: str = "ssim"
     kick_off: str = "Left"
     server: str = "real"
+    walker: str = DEFAULT_WALKER
 
     def __post_init__(self) -> None:
         if not 1 <= self.team_size <= MAX_TEAM_SIZE:
@@ -72,6 +94,9 @@ class LeagueMatchOptions:
             raise ConfigError(f"league match: kick_off {self.kick_off!r} is not Left or Right")
         if self.server not in ("real", "local"):
             raise ConfigError(f"league match: server {self.server!r} is not real or local")
+        if self.walker not in WALKERS:
+            raise ConfigError(f"league match: walker {self.walker!r} is not one of "
+                              f"{sorted(WALKERS)}")
 
     def match_options(self) -> MatchOptions:
         """The env's options for the same match (what the database stores)."""
@@ -277,7 +302,8 @@ def play_league_match(left: str, right: str, options: LeagueMatchOptions = Leagu
             clients, join, kick_off):
         # walkers first: an active agent that does not answer for 5 s is dropped
         for s, c in zip(sides, clients, strict=True):
-            s.encoders = {u: RequestEncoder(WalkerController(), c.who(u)) for u in c.unums}
+            s.encoders = {u: RequestEncoder(WALKERS[options.walker](), c.who(u))
+                          for u in c.unums}
         join(clients)
         recorder = None
         if replay_path is not None:
@@ -318,7 +344,7 @@ def play_league_match(left: str, right: str, options: LeagueMatchOptions = Leagu
                     kicked_off = True
     if recorder is not None:
         recorder.save(replay_path, {"left": first.label, "right": sides[1].label, "seed": seed,
-                                    "server": options.server})
+                                    "server": options.server, "walker": options.walker})
     return MatchResult(seed=seed, left=first.label, right=sides[1].label, score=score,
                        goals=tuple(goals), cycles=cycles, wall_s=time.monotonic() - start,
                        team_versions=tuple(team_version(parse_team_spec(s.label).name)

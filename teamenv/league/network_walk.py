@@ -18,10 +18,10 @@ The observation (78 values) is, in the network's training convention:
 all clipped to +-10. Angles and rates are radians here (our parser converts the wire's
 degrees, the reference converts them itself).
 
-The forward pass is float32, as the reference evaluates it in torch. It is deterministic on
-one machine (no random state); across machines the last bits of a float32 matrix product may
-differ with the BLAS library and the CPU's vector width, which may, over many cycles of a
-chaotic walk, send two machines' robots apart.
+The forward pass is float64 on the float32 weights (the reference evaluates float32 in torch:
+the actions agree to ~1e-5) and uses ``portable_math``'s matrix product (einsum, not BLAS) and
+``expm1``, so it gives the same bits on every CPU and has no random state. What stays
+machine-dependent in a walk is the server's physics (MuJoCo), not the controller.
 """
 
 from __future__ import annotations
@@ -32,6 +32,8 @@ from importlib import resources
 from pathlib import Path
 
 import numpy as np
+
+import portable_math as pm
 
 from . import effectors
 from .controller import WalkEnvelope
@@ -68,15 +70,18 @@ CLIP = 10.0
 OBSERVATION_SIZE = 3 * len(NETWORK_MOTORS) + 9
 WEIGHTS_FILE = "t1_reference_walk.npz"
 
-#: the commands the network walks safely on the server's physics, with a margin below the
-#: largest ones that stayed up in every trial (``benchmarks/league_walk_compare.py``, see
-#: docs/league.md)
-NETWORK_ENVELOPE = WalkEnvelope(vx_forward=1.0, vx_backward=0.5, vy=0.4, turn=1.5)
+#: the commands the network walks safely on the server's physics (LocalServer, 8 trials of 6 s
+#: per command from seeded start poses, ``benchmarks/league_walk_compare.py --envelope``): up
+#: in every trial forward to 1.6 (1.28 m/s achieved; 1.8 fell 7 of 8), backward to 1.0,
+#: turning to 2.5 rad/s, sideways to 0.12 (0.15 fell 1 of 8 to the right, 0.2 1 and 2 of 8);
+#: half-axes with a margin below those, sideways at the largest that never fell. Some curves
+#: inside it still fall at times (docs/league.md)
+NETWORK_ENVELOPE = WalkEnvelope(vx_forward=1.5, vx_backward=0.8, vy=0.12, turn=2.0)
 
 
 @dataclass(frozen=True)
 class WalkNetwork:
-    """The reference MLP's weights (float32, ``w*`` as (in, out))."""
+    """The reference MLP's weights (float32 values held as float64, ``w*`` as (in, out))."""
 
     w1: np.ndarray
     b1: np.ndarray
@@ -101,10 +106,11 @@ class WalkNetwork:
         names = ("fc1_weight", "fc1_bias", "layer_norm_weight", "layer_norm_bias", "fc2_weight",
                  "fc2_bias", "fc3_weight", "fc3_bias", "fc4_weight", "fc4_bias")
         with np.load(path) as z:
-            try:
-                arrays = {k: np.asarray(z[k], dtype=np.float32) for k in names}
-            except KeyError as exc:
-                raise LeagueError(f"walk network {path}: no array {exc.args[0]!r}") from None
+            missing = [k for k in names if k not in z.files]
+            if missing:
+                raise LeagueError(f"walk network {path}: no array {missing[0]!r} "
+                                  f"(has {z.files})")
+            arrays = {k: np.asarray(z[k], dtype=np.float32).astype(np.float64) for k in names}
         net = cls(
             w1=np.ascontiguousarray(arrays["fc1_weight"].T), b1=arrays["fc1_bias"],
             ln_gain=arrays["layer_norm_weight"], ln_bias=arrays["layer_norm_bias"],
@@ -117,21 +123,21 @@ class WalkNetwork:
         return net
 
     def __call__(self, observation: np.ndarray) -> np.ndarray:
-        """Actions (23,) for one observation (78,), or (n, 23) for (n, 78); float32."""
-        x = np.asarray(observation, dtype=np.float32)
-        h = x @ self.w1 + self.b1
+        """Actions (23,) for one observation (78,), or (n, 23) for (n, 78); float64."""
+        x = np.asarray(observation, dtype=np.float64)
+        h = pm.matmul(x, self.w1) + self.b1
         mean = h.mean(axis=-1, keepdims=True)
         var = np.square(h - mean).mean(axis=-1, keepdims=True)
-        h = (h - mean) / np.sqrt(var + np.float32(self.LN_EPS)) * self.ln_gain + self.ln_bias
+        h = (h - mean) / np.sqrt(var + self.LN_EPS) * self.ln_gain + self.ln_bias
         h = _elu(h)
-        h = _elu(h @ self.w2 + self.b2)
-        h = _elu(h @ self.w3 + self.b3)
-        return np.clip(h @ self.w4 + self.b4, -CLIP, CLIP)
+        h = _elu(pm.matmul(h, self.w2) + self.b2)
+        h = _elu(pm.matmul(h, self.w3) + self.b3)
+        return np.clip(pm.matmul(h, self.w4) + self.b4, -CLIP, CLIP)
 
 
 def _elu(x: np.ndarray) -> np.ndarray:
-    # expm1 of min(x, 0): no overflow warning for large positive x
-    return np.where(x > 0, x, np.expm1(np.minimum(x, 0)))
+    # expm1 of min(x, 0): no overflow for large positive x
+    return np.where(x > 0, x, pm.expm1(np.minimum(x, 0.0)))
 
 
 def projected_gravity(quat: tuple[float, float, float, float]) -> np.ndarray:
@@ -188,10 +194,10 @@ class NetworkWalkController:
                  network: WalkNetwork | None = None) -> None:
         self.envelope = envelope
         self.network = network or WalkNetwork.load()
-        self._previous_action = np.zeros(len(NETWORK_MOTORS), dtype=np.float32)
+        self._previous_action = np.zeros(len(NETWORK_MOTORS))
 
     def reset(self) -> None:
-        self._previous_action = np.zeros(len(NETWORK_MOTORS), dtype=np.float32)
+        self._previous_action = np.zeros(len(NETWORK_MOTORS))
 
     def stand(self, perception: Perception) -> str:
         return self._act((0.0, 0.0, 0.0), perception)
@@ -205,7 +211,7 @@ class NetworkWalkController:
         obs = observation(perception, goal, self._previous_action)
         action = self.network(obs)
         self._previous_action = action
-        targets = (NOMINAL_POSE + ACTION_SCALE * action.astype(float)) * TRAINING_SIGN
+        targets = (NOMINAL_POSE + ACTION_SCALE * action) * TRAINING_SIGN
         return effectors.message(*(
             effectors.motor(name, float(targets[k]), 0.0, KP, KD)
             for k, name in enumerate(NETWORK_MOTORS)))
