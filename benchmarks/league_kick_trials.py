@@ -6,17 +6,20 @@ Each trial (``teamenv.league.kick_trial.kick_trial`` on ``LocalServer``) draws f
 within +-70 deg of straight behind it, facing the ball +-60 deg; and the kick's target heading,
 within +-45 deg of the +x axis (world). The robot stands 0.6 s, walks to the kick spot with
 ``approach_command`` under the chosen walk controller (``in_kick_spot``: ball sighted, spot
-within a few cm, heading within ~7 deg), kicks, and stands while the ball rolls; the ball's
+within a few cm, heading within ~7 deg), kicks, walks on the spot 1 s and stands; the ball's
 travel and heading come from the simulation's ground truth when it has stopped (at most
-``--settle`` s). The tuning (``benchmarks/league_kick_tune.py``) kicked only from standing at
-the spot, with no seed: every seed here is held out.
+``--settle`` s). The parameters were chosen on kicks from standing, trial seeds 1-10 and
+2000-2013, and 50 trials of seeds 1000-1049 (the ball's distance at the strike); the
+measurement in docs/league.md uses seeds 3000-3099, which none of that saw.
 
-Printed: trials, how many kicked (reached the spot within 12 s), mean / median ball travel
-(m), direction error mean and s.d. (deg), upright after the kick (%), falls during it, kick
-duration, approach time.
+Printed: trials, how many kicked (reached the spot within 12 s and started the kick), how
+many of those struck (a kick whose strike never began ends after 1.5 s), mean / median ball
+travel (m, every kick counted, also those without a strike), direction error mean and s.d.
+(deg), upright after the kick (%), falls during it, kick duration (start to the end of the
+motion, 0.4 s after the strike began) mean / max / share within 1.5 s, approach time.
 
-    nice -n 10 python benchmarks/league_kick_trials.py --seeds 1000:1050 --out a.json
-    nice -n 10 python benchmarks/league_kick_trials.py --seeds 1050:1100 --out b.json
+    nice -n 10 python benchmarks/league_kick_trials.py --seeds 3000:3050 --out a.json
+    nice -n 10 python benchmarks/league_kick_trials.py --seeds 3050:3100 --out b.json
     python benchmarks/league_kick_trials.py --merge a.json b.json     # the 100 together
 """
 
@@ -82,7 +85,11 @@ def summary(rows: list[dict]) -> dict:
         "upright_after_pct": round(100.0 * sum(r["upright"] for r in kicked) / len(kicked), 1)
         if kicked else None,
         "fell_during": sum(r["fell_during"] for r in kicked),
+        "struck": sum(r.get("strike_ball_x") is not None for r in kicked),
+        "kick_s_mean": round(float(np.mean([r["kick_s"] for r in kicked])), 2) if kicked else None,
         "kick_s_max": max(r["kick_s"] for r in kicked) if kicked else None,
+        "kick_within_1_5_s_pct": round(100.0 * sum(r["kick_s"] <= 1.5 for r in kicked)
+                                       / len(kicked), 1) if kicked else None,
         "approach_s_mean": round(float(np.mean([r["approach_s"] for r in kicked])), 2)
         if kicked else None,
     }
@@ -91,7 +98,7 @@ def summary(rows: list[dict]) -> dict:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--seeds", default="1000:1100", help="first:last (last excluded)")
+    ap.add_argument("--seeds", default="3000:3100", help="first:last (last excluded)")
     ap.add_argument("--walker", choices=("walker", "network"), default="walker",
                     help="the approach walk: our WalkerController or the reference network")
     ap.add_argument("--settle", type=float, default=5.0, help="seconds watched after a kick")

@@ -19,7 +19,9 @@ stands still instead of stepping in place: our walker stepping on the spot falls
 **Kicks** (``teamenv.league.kick``): the encoder tracks the ball from the agent's own vision
 (``BallTracker``). A kick request (power 0-1, direction rad, body frame) walks the robot into
 the kick spot facing the direction (``approach_command``) and, once there with a recent
-sighting (``in_kick_spot``, ``KICK_SIGHTING_MAX_AGE_S``), starts the kick motion;
+sighting (``in_kick_spot``, ``KICK_SIGHTING_MAX_AGE_S``), starts the kick motion; a kick
+request holds for ``KICK_LATCH_S`` while the ball is within ``KICK_LATCH_M`` (walk requests
+meanwhile go on preparing it);
 the motion plays to its end whatever is asked meanwhile (walk and kick requests are ignored,
 a beam cancels it). The kick is a kick step of the walk: with our ``WalkerController`` it
 continues the controller's own gait, and the walk goes on from there; with another
@@ -44,7 +46,7 @@ from comms.profiles import get_profile
 from teamenv.landmarks import MJ_MARKS_LEFT, MJ_MARKS_RIGHT
 
 from . import effectors
-from .controller import LocomotionController, WalkerController
+from .controller import CYCLE_S, LocomotionController, WalkerController
 from .errors import LeagueError
 from .getup import GetUpMotion
 from .kick import BallTracker, KickMotion, approach_command, in_kick_spot
@@ -112,6 +114,13 @@ class Request:
 
 #: walk speed of a kick as a walk through the ball (m/s; ``kick=None``, or the ball never seen)
 KICK_WALK_SPEED = 0.4
+#: a kick request holds for this long (s) while the ball stays within ``KICK_LATCH_M`` (m): a
+#: team asks to kick when the ball is within its reach (the profile's ``kick_reach``, 0.35 m
+#: for the T1) and walks at it otherwise, so its requests flicker while the approach steps
+#: back to the kick spot (~0.43 m ahead) and its walks would push the ball away; meanwhile
+#: the encoder goes on preparing the last kick asked for
+KICK_LATCH_S = 3.0
+KICK_LATCH_M = 1.0
 #: a sighting older than this (s) does not start a kick (the ball may have moved); the ball
 #: at the kick spot is below the level camera's view, so the last sighting is from ~0.55 m
 KICK_SIGHTING_MAX_AGE_S = 3.0
@@ -138,6 +147,7 @@ class RequestEncoder:
         self.get_up = GetUpMotion() if get_up == "default" else get_up
         self.ball = BallTracker()
         self._motion = None   # the kick or get-up now playing
+        self._latch = None    # (power, world heading, seconds left) of the last kick request
         self.profile = get_profile(channel)
         if not self.profile.base64_payload:
             raise LeagueError(f"{self.who}: the league server needs the 'mj' channel, not {channel!r}")
@@ -148,6 +158,26 @@ class RequestEncoder:
 
     def _walk_through(self, direction: float) -> tuple[float, float, float]:
         return (KICK_WALK_SPEED * math.cos(direction), 0.0, direction / 0.5)
+
+    def _latched_kick(self, request: Request, perception: Perception):
+        """The kick to prepare this cycle: the request's, or (for ``KICK_LATCH_S`` after one)
+        the last one, its direction kept in the world frame while the robot turns."""
+        from .controller import torso_pose
+
+        if request.kick is not None:
+            power, direction = request.kick
+            if self.kick is not None:
+                self._latch = (power, torso_pose(perception)[2] + direction, KICK_LATCH_S)
+            return request.kick
+        ball = self.ball.body
+        if (self.kick is None or self._latch is None or self._latch[2] <= 0.0
+                or ball is None or math.hypot(*ball) > KICK_LATCH_M):
+            self._latch = None
+            return None
+        yaw = torso_pose(perception)[2]
+        power, heading, left = self._latch
+        self._latch = (power, heading, left - CYCLE_S)
+        return power, math.remainder(heading - yaw, 2 * math.pi)
 
     def _body(self, request: Request, perception: Perception) -> str:
         """This cycle's motor message."""
@@ -165,8 +195,9 @@ class RequestEncoder:
             self._motion = self.get_up
             return self._body(request, perception)
         walk = request.walk
-        if request.kick is not None:
-            power, direction = request.kick
+        kick = self._latched_kick(request, perception)
+        if kick is not None:
+            power, direction = kick
             ball = self.ball.body
             if self.kick is None or ball is None:
                 walk = self._walk_through(direction)
@@ -174,10 +205,11 @@ class RequestEncoder:
                   and self.ball.age_s <= KICK_SIGHTING_MAX_AGE_S):
                 self.kick.start(perception, direction, min(max(power, 0.0), 1.0), ball=ball)
                 self._motion = self.kick
+                self._latch = None        # this kick is played: the request is answered
                 return self._body(request, perception)
             else:
                 walk = approach_command(ball, direction, self.kick.params)
-        if self.stand_when_idle and request.kick is None and not any(walk):
+        if self.stand_when_idle and kick is None and not any(walk):
             return self.controller.stand(perception)
         return self.controller.step(walk, perception)
 
@@ -187,7 +219,7 @@ class RequestEncoder:
         if request.beam is not None:
             # every motor is commanded every cycle (an uncommanded one lets rcsssmj zero
             # every robot's controls, see docs/league.md): a beam comes with the stance
-            self._motion = None
+            self._motion = self._latch = None
             parts += [effectors.beam(*request.beam), self.controller.stand(perception)]
         else:
             parts.append(self._body(request, perception))

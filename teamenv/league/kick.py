@@ -56,7 +56,7 @@ MOTORS: tuple[str, ...] = tuple(T1_MOTORS)
 BLEND_S = 0.2
 #: a swing strikes only with the ball this close (m) to the kicking foot's line (else the foot
 #: passes beside it); the kick steps sideways to bring it there and waits for the next swing
-STRIKE_TOLERANCE_Y = 0.035
+STRIKE_TOLERANCE_Y = 0.04
 
 
 @dataclass(frozen=True)
@@ -72,10 +72,10 @@ class KickParams:
     follow_vx, which the trials keep walking after the motion); max_wait_s: a kick whose strike has not begun by then ends without one;
     aim_bias: the ball's measured outward deflection (the body faces this much inwards)."""
 
-    spot_x: float = 0.5
+    spot_x: float = 0.43
     foot_y: float = 0.115
-    strike_x: float = 0.42
-    walk_vx: float = 0.15
+    strike_x: float = 0.39
+    walk_vx: float = 0.1
     strike_hip: float = 0.6
     strike_knee: float = 0.3
     strike_from: float = 0.1
@@ -330,10 +330,11 @@ class BallTracker:
 
 
 # -- the approach that aims the kick ---------------------------------------------------------
-#: how close to the kick spot (m: along the kick, sideways) and to the kick heading (rad) the
-#: robot must be to start the kick (the kick then walks on and corrects as it goes)
-SPOT_TOLERANCE_X = 0.12
-SPOT_TOLERANCE_Y = 0.03
+#: how close to the kick spot (m: along the kick (range), sideways) and to the kick heading
+#: (rad) the robot must be to start the kick (the kick then walks on and corrects as it goes;
+#: the range keeps the wait for the strike short)
+SPOT_TOLERANCE_X = (-0.06, 0.03)
+SPOT_TOLERANCE_Y = 0.05
 HEADING_TOLERANCE = 0.12
 #: the share of the walker's envelope (``LEAGUE_ENVELOPE``, as an ellipsoid) the approach uses
 APPROACH_ENVELOPE_SHARE = 0.7
@@ -355,7 +356,7 @@ def spot_error(ball: tuple[float, float], direction: float,
 def in_kick_spot(ball: tuple[float, float], direction: float,
                  params: KickParams = LEAGUE_KICK) -> bool:
     ex, ey, eh = spot_error(ball, direction, params)
-    return (-SPOT_TOLERANCE_X <= ex <= 0.05 and abs(ey) <= SPOT_TOLERANCE_Y
+    return (SPOT_TOLERANCE_X[0] <= ex <= SPOT_TOLERANCE_X[1] and abs(ey) <= SPOT_TOLERANCE_Y
             and abs(eh) <= HEADING_TOLERANCE)
 
 
@@ -381,7 +382,7 @@ def approach_command(ball: tuple[float, float], direction: float,
     turn = float(np.clip(1.2 * aim, -0.6, 0.6))
     slow = max(0.0, 1.0 - abs(aim) / 0.8)               # turn first when far off
     vx = float(np.clip(1.5 * gx, -0.15, speed)) * slow
-    vy = float(np.clip(1.5 * gy, -0.1, 0.1)) * slow
+    vy = float(np.clip(3.0 * gy, -0.1, 0.1)) * slow     # small sideways commands barely move
     # the walker falls near the edge of its envelope when walking, stepping sideways and
     # turning at once: keep the combined command within APPROACH_ENVELOPE_SHARE of it
     e = LEAGUE_ENVELOPE

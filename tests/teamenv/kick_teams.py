@@ -15,6 +15,6 @@ NEAR_CENTRE = (-0.9, 0.1, 0.0)
 class NearChaserTeam(ChaserTeam):
     def act(self, observations):
         views = self.beliefs.update(observations)
-        return {agent: {"beam": np.array(NEAR_CENTRE), "walk": np.zeros(3)}
+        return {agent: {"beam": np.array(NEAR_CENTRE), "beam_request": 1, "walk": np.zeros(3)}
                 if view.play_mode == PlayMode.BeforeKickOff else self._decide(view)
                 for agent, view in views.items()}
