@@ -183,6 +183,9 @@ class RequestEncoder:
         """This cycle's motor message."""
         from .observation import is_fallen  # here: observation imports this module
 
+        if self._motion is self.kick and self.get_up is not None and is_fallen(perception):
+            self._motion = None               # down during a kick: get up instead
+            self.controller.reset()
         if self._motion is not None:
             message = self._motion.step(perception)
             if self._motion.done:

@@ -319,7 +319,12 @@ class BallTracker:
         self.world, self.age_s, self.body = None, math.inf, None
 
     def update(self, perception: Perception) -> tuple[float, float] | None:
-        """Take this cycle's sighting (if any); returns the ball's body-frame (x, y), m."""
+        """Take this cycle's sighting (if any); returns the ball's body-frame (x, y), m (None
+        also for a perception without the torso's pose)."""
+        if "torso_pos" not in perception.positions or \
+                "torso_quat" not in perception.orientations:
+            self.body = None
+            return None
         seen = seen_ball_world(perception)
         if seen is not None:
             self.world, self.age_s = seen, 0.0

@@ -1,5 +1,5 @@
-"""The T1's kick on the league server (teamenv.league.kick): the motion's keyframes and input
-checks, the ball seen from the camera, the approach that aims it; on LocalServer a kick from
+"""The T1's kick on the league server (teamenv.league.kick): the strike on the walk's swing
+leg and input checks, the ball seen from the camera, the approach that aims it; on LocalServer a kick from
 standing, an aimed kick from a walking approach, the encoder playing a kick to its end and the
 get-up hook; on the real server one short kick; a 1 v 1 LocalServer match with a kick."""
 
