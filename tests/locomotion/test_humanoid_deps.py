@@ -11,7 +11,7 @@ from locomotion.humanoid import EXTRA_HINT, require
 
 
 def test_missing_extra_names_the_install_command() -> None:
-    with pytest.raises(ImportError, match=r"pip install 'teamenv\[humanoid\]'"):
+    with pytest.raises(ImportError, match=r"pip install -e '\.\[humanoid\]'"):
         require("surely_not_an_installed_module_xyz")
     assert "pip install -e '.[humanoid]'" in EXTRA_HINT
 
