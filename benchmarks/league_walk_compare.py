@@ -12,9 +12,10 @@ Modes (each prints a table; the numbers are in docs/league.md):
     python benchmarks/league_walk_compare.py --turn               # turn commands above 1 rad/s
     python benchmarks/league_walk_compare.py --envelope           # the network's limits (tuning seeds)
     python benchmarks/league_walk_compare.py --stand              # network at zero vs a held pose
+    python benchmarks/league_walk_compare.py --curves --trials 8 --controllers network
 
-``--compare`` and ``--turn`` run each controller as a league match does (its envelope scales
-the command), on seeds 1000+ (never used to choose anything); ``--envelope`` runs the network
+``--compare``, ``--turn`` and ``--curves`` run each controller as a league match does (its envelope scales
+the command), on seeds 1000+, 1500+ and 3000+ (never used to choose anything); ``--envelope`` runs the network
 without its envelope on seeds 0+ and is what ``NETWORK_ENVELOPE`` was chosen from.
 """
 
@@ -76,6 +77,9 @@ COMPARE = {
     "switching": _switching,
 }
 TURNS = {f"turn {w}": (0.0, 0.0, w) for w in (1.0, 1.2, 1.5, -1.5, 2.0)}
+#: curves: forward speed x turn rate
+CURVES = {f"curve {vx}/{w}": (vx, 0.0, w) for vx in (0.3, 0.6, 0.9)
+          for w in (0.3, -0.3, 0.6, -0.6, 1.0, -1.0)}
 #: per axis, commands of growing size for the network without its envelope
 ENVELOPE_AXES = {
     "forward": [(v, 0.0, 0.0) for v in (1.0, 1.2, 1.4, 1.6, 1.8)],
@@ -162,6 +166,7 @@ def main() -> None:
     ap.add_argument("--turn", action="store_true")
     ap.add_argument("--envelope", action="store_true")
     ap.add_argument("--stand", action="store_true")
+    ap.add_argument("--curves", action="store_true")
     ap.add_argument("--trials", type=int, default=5, help="start poses (seeds) per command")
     ap.add_argument("--seconds", type=float, default=6.0, help="walking time per trial")
     ap.add_argument("--controllers", default="walker,network")
@@ -172,6 +177,8 @@ def main() -> None:
         table(COMPARE, controllers, args.trials, EVALUATION_SEED, args.seconds)
     if args.turn:
         table(TURNS, controllers, args.trials, EVALUATION_SEED + 500, args.seconds)
+    if args.curves:
+        table(CURVES, controllers, args.trials, EVALUATION_SEED + 2000, args.seconds)
     if args.envelope:
         envelope(args.trials, args.seconds)
     if args.stand:
