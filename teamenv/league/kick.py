@@ -54,6 +54,9 @@ from .t1 import T1_MOTORS, joint_sensor
 MOTORS: tuple[str, ...] = tuple(T1_MOTORS)
 #: the first seconds of a kick on a fresh walker blend from the measured joint angles
 BLEND_S = 0.2
+#: a kick on a walker of its own waits this much longer for its strike (s): that walker
+#: stands 0.5 s and steps once before the kicking foot can swing
+FRESH_WALKER_S = 0.8
 #: a swing strikes only with the ball this close (m) to the kicking foot's line (else the foot
 #: passes beside it); the kick steps sideways to bring it there and waits for the next swing
 STRIKE_TOLERANCE_Y = 0.04
@@ -224,7 +227,8 @@ class KickMotion:
         self._perception = perception
         message = self.walker.step(self._command(perception), perception, adjust=self._blend)
         p = self.params
-        if self._strike_t is None and self._t >= p.max_wait_s:
+        wait = p.max_wait_s + (0.0 if self.shares_walker else FRESH_WALKER_S)
+        if self._strike_t is None and self._t >= wait:
             self.done = True                # the strike never began (the ball moved away)
         elif self.struck and self._t - self._strike_t >= p.follow_s:
             self.done = True
