@@ -1,0 +1,239 @@
+"""Regenerate the ``t1_league`` locomotion profile from what the league client's T1 does.
+
+    python benchmarks/calibrate_t1_league.py --kicks kicks.json --getup getup.json \
+        --replays study/league_replays          # measures the walk itself, writes the profile
+    python benchmarks/calibrate_t1_league.py --skip-walk --kicks kicks.json --dry-run
+
+Sources, each optional (a parameter without a source keeps its value and provenance):
+
+- **walk** (measured here on ``LocalServer``, unless ``--skip-walk``): the league matches'
+  default walking controller (``teamenv.league.match.WALKERS``) walks each command of an axis
+  grid for ``--walk-seconds`` from ``--walk-trials`` start poses; the tracking curve of an axis
+  is the median achieved velocity per command (trials that fell left out), and the envelope
+  the largest achieved speed each way;
+- **kicks**: kick-trial files of ``benchmarks/league_kick_trials.py --out`` (rows with the ball's
+  ``travel`` and the direction ``error_deg``): distance mean / s.d. / min / max, and the
+  accuracy as the share within the profile's ``kick_accuracy_half_angle``;
+- **get-up**: a trial file of ``benchmarks/league_getup_trials.py --json``: with successes, the
+  mean time to up; with none, the referee's rule stays (a robot that lay 15 s is stood up);
+- **falls**: league replays (``teamenv league-tournament --replay-dir``, the study's
+  ``league_replays``): falls per robot and minute of play and the share with another robot
+  within 1 m just before, written into the profile's ``measurements`` (the 2D model's falls
+  come from its push thresholds and command jumps, which these numbers are compared with).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+PROFILE = ROOT / "locomotion" / "profiles" / "t1_league.json"
+#: commands per axis (m/s, m/s, rad/s); each is walked along its axis only
+AXES = {
+    "vx": (-0.8, -0.4, -0.2, 0.2, 0.4, 0.8, 1.2, 1.5),
+    "vy": (-0.3, -0.12, 0.12, 0.3),
+    "turn": (-2.0, -1.0, -0.5, 0.5, 1.0, 2.0),
+}
+SCRIPT = "benchmarks/calibrate_t1_league.py"
+
+
+def measure_walk(trials: int, seconds: float, seed0: int = 4000) -> dict[str, Any]:
+    """Achieved velocity per command and axis with the league's default walker."""
+    from locomotion.humanoid.envelope import achieved_velocity
+    from teamenv.league.match import WALKERS, LeagueMatchOptions
+    from teamenv.league.walk_trial import walk_trial
+
+    walker = LeagueMatchOptions().walker
+    make = WALKERS[walker]
+    out: dict[str, Any] = {"walker": walker, "trials": trials, "seconds": seconds, "axes": {}}
+    for k, (axis, commands) in enumerate(AXES.items()):
+        rows = []
+        for command in commands:
+            cmd = tuple(command if a == axis else 0.0 for a in AXES)
+            achieved, falls = [], 0
+            for t in range(trials):
+                rng = np.random.default_rng(seed0 + 100 * k + t)
+                start = (float(rng.uniform(-20, -8)), float(rng.uniform(-12, 12)),
+                         float(rng.uniform(-math.pi, math.pi)))
+                r = walk_trial(make(), lambda _t, c=cmd: c, seconds, stand_s=1.0, start=start)
+                if r.fell:
+                    falls += 1
+                    continue
+                achieved.append(float(achieved_velocity(r.times, r.poses, 1.5)[k]))
+            rows.append({"command": command, "achieved": achieved, "falls": falls})
+            print(f"walk {axis} {command:+.2f}: achieved {np.round(achieved, 3).tolist()}, "
+                  f"falls {falls}/{trials}", flush=True)
+        out["axes"][axis] = rows
+    return out
+
+
+def walk_parameters(walk: dict[str, Any]) -> dict[str, dict]:
+    """Tracking curves and envelope from ``measure_walk``'s result."""
+    params: dict[str, dict] = {}
+    src = (f"{SCRIPT}: the league's default walker ({walk['walker']}) on rcsssmj 0.2.1's "
+           f"physics (LocalServer), {walk['trials']} start poses x {walk['seconds']:g} s per "
+           "command, median achieved velocity after 1.5 s (falls left out); body frame")
+    envelope: dict[str, float] = {}
+    for axis, rows in walk["axes"].items():
+        points = [(0.0, 0.0)]
+        for row in rows:
+            if row["achieved"]:
+                points.append((float(row["command"]), float(np.median(row["achieved"]))))
+        points.sort()
+        # the profile's tables are non-decreasing: a median that dips below a slower command's
+        # (noise, or a controller that barely moves one way) takes that command's value
+        achieved = np.maximum.accumulate([a for _, a in points])
+        points = [(c, float(a)) for (c, _), a in zip(points, achieved, strict=True)]
+        lo, hi = points[0], points[-1]
+        # flat beyond the grid: the controller's envelope scales larger commands down
+        curve = [[-3.0 if axis != "vy" else -1.0, lo[1]], *[[c, round(a, 3)] for c, a in points],
+                 [3.0 if axis != "vy" else 1.0, hi[1]]]
+        params[f"tracking_{axis}"] = {"value": curve, "unit": "rad/s" if axis == "turn" else "m/s",
+                                      "kind": "measured", "source": src}
+        fastest_pos = max((a for _, a in points), default=0.0)
+        fastest_neg = -min((a for _, a in points), default=0.0)
+        if axis == "vx":
+            envelope["envelope_vx_forward"] = fastest_pos
+            envelope["envelope_vx_backward"] = fastest_neg
+        else:   # one envelope for both ways (the profile's is symmetric): the faster way
+            envelope[f"envelope_{axis}"] = max(fastest_pos, fastest_neg)
+    for name, value in envelope.items():
+        params[name] = {"value": round(float(value), 3), "unit": "rad/s" if "turn" in name
+                        else "m/s", "kind": "measured", "source": src + "; the fastest each way"}
+    return params
+
+
+def kick_parameters(paths: list[Path], half_angle_rad: float) -> dict[str, dict]:
+    rows = [r for p in paths for r in json.loads(Path(p).read_text())["rows"]]
+    kicked = [r for r in rows if r.get("kicked")]
+    if len(kicked) < 2:
+        raise SystemExit(f"--kicks: {len(kicked)} kicks in {[str(p) for p in paths]}; need >= 2")
+    travel = np.array([r["travel"] for r in kicked], dtype=float)
+    error = np.radians(np.array([r["error_deg"] for r in kicked], dtype=float))
+    src = (f"{SCRIPT}: {len(kicked)} kicks of benchmarks/league_kick_trials.py "
+           f"({', '.join(Path(p).name for p in paths)}; walking approach on LocalServer, "
+           "distance = the ball's travel after the kick)")
+    accuracy = float(np.mean(np.abs(error) <= half_angle_rad))
+    return {
+        "kick_distance_mean": {"value": round(float(travel.mean()), 3), "unit": "m",
+                               "kind": "measured", "source": src},
+        "kick_distance_std": {"value": round(float(travel.std(ddof=1)), 3), "unit": "m",
+                              "kind": "measured", "source": src},
+        "kick_distance_min": {"value": round(float(travel.min()), 3), "unit": "m",
+                              "kind": "measured", "source": src},
+        "kick_distance_max": {"value": round(float(travel.max()), 3), "unit": "m",
+                              "kind": "measured", "source": src},
+        "kick_accuracy": {"value": round(accuracy, 3), "unit": "1", "kind": "measured",
+                          "source": src + f"; share within +-{math.degrees(half_angle_rad):.0f}"
+                                          " deg of the aim"},
+    }
+
+
+def getup_parameters(path: Path) -> dict[str, dict]:
+    rows = json.loads(Path(path).read_text())
+    ok = [r for r in rows if r.get("success") and r.get("time_to_up") is not None]
+    if not ok:
+        return {}   # the referee's rule (15 s) stays, with its own provenance
+    times = np.array([r["time_to_up"] for r in ok], dtype=float)
+    return {"getup_duration": {
+        "value": round(float(times.mean()), 2), "unit": "s", "kind": "measured",
+        "source": f"{SCRIPT}: mean time to up of {len(ok)}/{len(rows)} successful get-ups "
+                  f"(benchmarks/league_getup_trials.py, {Path(path).name})"}}
+
+
+def fall_statistics(replay_dir: Path, near_m: float = 1.0) -> dict[str, Any]:
+    """Falls per robot and minute of play in league replays, and the share near another robot."""
+    from teamenv.league.replay import latch_falls
+    from teamenv.replay import load_replay
+
+    falls = near = 0
+    robot_minutes = 0.0
+    replays = sorted(Path(replay_dir).glob("*.npz"))
+    for path in replays:
+        replay = load_replay(path)
+        fallen = latch_falls(replay.fallen).astype(np.int8)
+        playing = replay.play_mode != 0
+        cycle_s = float(replay.metadata["cycle_s"])
+        robot_minutes += float(playing.sum()) * cycle_s / 60.0 * fallen.shape[1]
+        for row, i in np.argwhere(np.diff(fallen, axis=0) == 1):
+            row = int(row) + 1
+            if not playing[row]:
+                continue
+            xy = replay.players[max(row - 5, 0), :, :2]
+            d = np.hypot(*(xy - xy[i]).T)
+            d[i] = np.inf
+            falls += 1
+            near += bool(d.min() < near_m)
+    return {"replays": len(replays), "robot_minutes": round(robot_minutes, 2), "falls": falls,
+            "falls_per_robot_minute": round(falls / robot_minutes, 4) if robot_minutes else None,
+            f"share_within_{near_m:g}_m": round(near / falls, 3) if falls else None,
+            "source": f"{SCRIPT} on {replay_dir}"}
+
+
+def update_profile(profile: dict[str, Any], params: dict[str, dict],
+                   measurements: dict[str, Any]) -> dict[str, Any]:
+    """``profile`` with ``params`` replacing its parameters (each keeps a note of what it
+    replaced) and ``measurements`` added under ``measurements['league_client']``."""
+    out = json.loads(json.dumps(profile))
+    for name, entry in params.items():
+        if name not in out["parameters"]:
+            raise SystemExit(f"profile has no parameter {name!r}")
+        old = out["parameters"][name]
+        entry = dict(entry)
+        entry["note"] = f"replaces {old.get('value')!r} ({old.get('kind')})"
+        out["parameters"][name] = entry
+    if measurements:
+        out.setdefault("measurements", {})["league_client"] = measurements
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--profile", default=str(PROFILE), help="the profile to update (t1_league)")
+    ap.add_argument("--out", default=None, help="write here instead of over --profile")
+    ap.add_argument("--skip-walk", action="store_true", help="keep the walk parameters")
+    ap.add_argument("--walk-trials", type=int, default=3, help="start poses per command")
+    ap.add_argument("--walk-seconds", type=float, default=5.0, help="walking time per trial")
+    ap.add_argument("--kicks", nargs="*", default=[], help="league_kick_trials.py --out files")
+    ap.add_argument("--getup", default=None, help="league_getup_trials.py --json file")
+    ap.add_argument("--replays", default=None, help="a folder of league match replays")
+    ap.add_argument("--dry-run", action="store_true", help="print, write nothing")
+    args = ap.parse_args(argv)
+    profile = json.loads(Path(args.profile).read_text())
+    params: dict[str, dict] = {}
+    measurements: dict[str, Any] = {}
+    if not args.skip_walk:
+        walk = measure_walk(args.walk_trials, args.walk_seconds)
+        params |= walk_parameters(walk)
+        measurements["walk"] = walk
+    if args.kicks:
+        half = float(profile["parameters"]["kick_accuracy_half_angle"]["value"])
+        params |= kick_parameters([Path(p) for p in args.kicks], half)
+    if args.getup:
+        params |= getup_parameters(Path(args.getup))
+    if args.replays:
+        measurements["falls"] = fall_statistics(Path(args.replays))
+        print("falls:", measurements["falls"])
+    updated = update_profile(profile, params, measurements)
+    for name in params:
+        print(f"{name}: {profile['parameters'][name].get('value')!r} -> "
+              f"{updated['parameters'][name]['value']!r}")
+    if not args.dry_run:
+        from locomotion.profile import load_profile
+
+        target = Path(args.out or args.profile)
+        target.write_text(json.dumps(updated, indent=2) + "\n")
+        load_profile(target)   # the loader's checks: a bad value fails here, not in a match
+        print(f"wrote {target}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

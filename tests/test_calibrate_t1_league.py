@@ -1,0 +1,88 @@
+"""benchmarks/calibrate_t1_league.py turns walk, kick and get-up measurements into a t1_league
+profile that the loader accepts (synthetic measurements: the script's arithmetic, not luck)."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from locomotion.profile import load_profile
+
+ROOT = Path(__file__).resolve().parents[1]
+_spec = importlib.util.spec_from_file_location("calibrate_t1_league",
+                                               ROOT / "benchmarks" / "calibrate_t1_league.py")
+cal = importlib.util.module_from_spec(_spec)
+sys.modules["calibrate_t1_league"] = cal
+_spec.loader.exec_module(cal)
+
+
+def synthetic_walk() -> dict:
+    """A walker that reaches 80 % of vx (capped at 1.2), 0.1 m/s sideways only to the right,
+    and 90 % of the turn; one fall at the fastest forward command."""
+    axes = {}
+    for axis, commands in cal.AXES.items():
+        rows = []
+        for c in commands:
+            if axis == "vx":
+                a = max(min(0.8 * c, 1.2), -0.5)
+            elif axis == "vy":
+                a = -0.1 if c < 0 else 0.02        # barely moves one way
+            else:
+                a = 0.9 * c
+            rows.append({"command": c, "achieved": [a, a + 0.01, a - 0.01],
+                         "falls": int(axis == "vx" and c == max(commands))})
+        axes[axis] = rows
+    return {"walker": "network", "trials": 3, "seconds": 5.0, "axes": axes}
+
+
+def test_calibration_writes_a_profile_the_loader_accepts(tmp_path):
+    rng = np.random.default_rng(0)
+    travel = rng.normal(6.0, 1.5, 120).clip(0.5)
+    error = rng.normal(0.0, 8.0, 120)
+    kicks = tmp_path / "kicks.json"
+    kicks.write_text(json.dumps({"rows": [
+        {"kicked": True, "travel": float(t), "error_deg": float(e)} for t, e in zip(travel, error)]
+        + [{"kicked": False, "travel": 0.0, "error_deg": 0.0}]}))
+    getup = tmp_path / "getup.json"
+    getup.write_text(json.dumps([{"success": True, "time_to_up": 3.0},
+                                 {"success": True, "time_to_up": 4.0},
+                                 {"success": False, "time_to_up": None}]))
+    profile = json.loads(cal.PROFILE.read_text())
+    half = float(profile["parameters"]["kick_accuracy_half_angle"]["value"])
+    params = cal.walk_parameters(synthetic_walk()) | cal.kick_parameters([kicks], half) | \
+        cal.getup_parameters(getup)
+    updated = cal.update_profile(profile, params, {"note": "synthetic"})
+    path = tmp_path / "t1_league.json"
+    path.write_text(json.dumps(updated))
+    loaded = load_profile(path)            # tables increasing, envelopes consistent
+    p = updated["parameters"]
+    assert p["kick_distance_mean"]["value"] == pytest.approx(travel.mean(), abs=1e-3)
+    assert p["kick_distance_std"]["value"] == pytest.approx(travel.std(ddof=1), abs=1e-3)
+    assert p["kick_accuracy"]["value"] == pytest.approx(
+        np.mean(np.abs(np.radians(error)) <= half), abs=1e-3)
+    assert p["getup_duration"]["value"] == 3.5
+    assert p["envelope_vx_forward"]["value"] == pytest.approx(1.2, abs=1e-9)  # medians
+    assert p["envelope_turn"]["value"] == pytest.approx(1.8, abs=1e-9)
+    vy = np.array(p["tracking_vy"]["value"])
+    assert np.all(np.diff(vy[:, 1]) >= 0)  # made non-decreasing
+    assert "replaces" in p["tracking_vx"]["note"] and p["tracking_vx"]["kind"] == "measured"
+    assert loaded is not None and updated["measurements"]["league_client"] == {"note": "synthetic"}
+
+
+def test_no_successful_get_up_keeps_the_referee_rule(tmp_path):
+    getup = tmp_path / "getup.json"
+    getup.write_text(json.dumps([{"success": False, "time_to_up": None}] * 4))
+    assert cal.getup_parameters(getup) == {}
+
+
+def test_too_few_kicks_is_an_error(tmp_path):
+    kicks = tmp_path / "kicks.json"
+    kicks.write_text(json.dumps({"rows": [{"kicked": True, "travel": 5.0, "error_deg": 1.0}]}))
+    with pytest.raises(SystemExit, match="need >= 2"):
+        cal.kick_parameters([kicks], math.radians(10))
