@@ -23,10 +23,11 @@ sighting (``in_kick_spot``, ``KICK_SIGHTING_MAX_AGE_S``), starts the kick motion
 request holds for ``KICK_LATCH_S`` while the ball is within ``KICK_LATCH_M`` (walk requests
 meanwhile go on preparing it);
 the motion plays to its end whatever is asked meanwhile (walk and kick requests are ignored,
-a beam cancels it). The kick is a kick step of the walk: with our ``WalkerController`` it
-continues the controller's own gait, and the walk goes on from there; with another
-controller it runs a walker of its own and the controller starts afresh
-(``controller.reset()``) after it. Before the ball was ever seen a kick request walks along the kick direction.
+a beam cancels it). The kick is a kick step of our walker: with our ``WalkerController`` as
+the controller it continues the controller's own gait, and the walk goes on from there; with
+another controller (e.g. the reference network) the kick's own ``WalkerController`` takes
+over the approach within ``KICK_LATCH_M`` of the ball and the controller starts afresh
+(``reset()``) when it walks again. Before the ball was ever seen a kick request walks along the kick direction.
 ``kick=None`` turns kicks off (a kick request is then a walk through the ball, the old
 behaviour, kept for comparison).
 
@@ -141,8 +142,10 @@ class RequestEncoder:
         #: the kick motion (None: kicks are walks through the ball); by default a kick step of
         #: the controller's own gait when it is our walker, else of a walker of its own
         if kick == "default":
-            kick = KickMotion(controller if isinstance(controller, WalkerController) else None)
+            kick = KickMotion(controller if isinstance(controller, WalkerController)
+                              else WalkerController())
         self.kick = kick
+        self._walking: LocomotionController | None = controller   # the walk that stepped last
         #: the get-up motion run when the robot is down (None: lying robots get the request)
         self.get_up = GetUpMotion() if get_up == "default" else get_up
         self.ball = BallTracker()
@@ -185,17 +188,14 @@ class RequestEncoder:
 
         if self._motion is self.kick and self.get_up is not None and is_fallen(perception):
             self._motion = None               # down during a kick: get up instead
-            self.controller.reset()
         if self._motion is not None:
             message = self._motion.step(perception)
             if self._motion.done:
-                if not getattr(self._motion, "shares_walker", False):
-                    self.controller.reset()   # the walk starts afresh from the motion's end
                 self._motion = None
             return message
         if self.get_up is not None and is_fallen(perception):
             self.get_up.start(perception)
-            self._motion = self.get_up
+            self._motion, self._walking = self.get_up, None
             return self._body(request, perception)
         walk = request.walk
         kick = self._latched_kick(request, perception)
@@ -206,15 +206,32 @@ class RequestEncoder:
                 walk = self._walk_through(direction)
             elif (in_kick_spot(ball, direction, self.kick.params)
                   and self.ball.age_s <= KICK_SIGHTING_MAX_AGE_S):
+                walker = self.kick.walker if self.kick.shares_walker else None
+                if walker is not None and self._walking is not walker:
+                    walker.reset()    # its gait starts here (the kick waits for its steps)
                 self.kick.start(perception, direction, min(max(power, 0.0), 1.0), ball=ball)
-                self._motion = self.kick
+                self._motion, self._walking = self.kick, walker
                 self._latch = None        # this kick is played: the request is answered
                 return self._body(request, perception)
             else:
-                walk = approach_command(ball, direction, self.kick.params)
+                # near the ball the kick's own walker walks the approach, so the kick goes on
+                # in its gait (the controller, if it is another walk, hands over here)
+                near = self.kick.shares_walker and math.hypot(*ball) <= KICK_LATCH_M
+                return self._step(self.kick.walker if near else self.controller,
+                                  approach_command(ball, direction, self.kick.params),
+                                  perception)
         if self.stand_when_idle and kick is None and not any(walk):
+            self._walking = self.controller
             return self.controller.stand(perception)
-        return self.controller.step(walk, perception)
+        return self._step(self.controller, walk, perception)
+
+    def _step(self, walker: LocomotionController, command, perception: Perception) -> str:
+        """One walk cycle of ``walker``, which starts afresh when another walk (or a motion)
+        stepped last."""
+        if self._walking is not walker:
+            walker.reset()
+            self._walking = walker
+        return walker.step(command, perception)
 
     def encode(self, request: Request, perception: Perception) -> str:
         parts: list[str] = []
@@ -223,6 +240,7 @@ class RequestEncoder:
             # every motor is commanded every cycle (an uncommanded one lets rcsssmj zero
             # every robot's controls, see docs/league.md): a beam comes with the stance
             self._motion = self._latch = None
+            self._walking = self.controller
             parts += [effectors.beam(*request.beam), self.controller.stand(perception)]
         else:
             parts.append(self._body(request, perception))

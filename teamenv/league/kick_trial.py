@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import effectors
+from .adapter import KICK_LATCH_M
 from .controller import CYCLE_S, LocomotionController, WalkerController, torso_pose
 from .kick import (
     LEAGUE_KICK,
@@ -93,7 +94,11 @@ def kick_trial(start: tuple[float, float, float], target_yaw: float = 0.0, power
         # a level camera's view; a match's robot has seen it on its way there)
         p = server.cycle({key: walker.stand(p) + effectors.motor("he2", LOOK_DOWN, 0.0, 20.0,
                                                                    0.5)})[key]
-    kick = KickMotion(walker if isinstance(walker, WalkerController) else None, params)
+    # as RequestEncoder: the kick is a step of our walker's gait; with another walk, the
+    # kick's own walker takes over the approach within KICK_LATCH_M of the ball
+    kick = KickMotion(walker if isinstance(walker, WalkerController) else WalkerController(),
+                      params)
+    walking = walker
     walked = 0
     while True:
         rel = tracker.update(p)
@@ -103,12 +108,18 @@ def kick_trial(start: tuple[float, float, float], target_yaw: float = 0.0, power
         if rel is not None and in_kick_spot(rel, direction, params):
             break
         command = approach_command(rel, direction, params) if rel is not None else (0, 0, 0.5)
-        p = server.cycle({key: walker.step(command, p)})[key]
+        now = kick.walker if rel is not None and math.hypot(*rel) <= KICK_LATCH_M else walker
+        if now is not walking:
+            now.reset()
+            walking = now
+        p = server.cycle({key: walking.step(command, p)})[key]
         walked += 1
     ball0 = np.array(server.ball_position()[:2])
     if is_fallen(p) or (approach and walked * CYCLE_S >= approach_s) or rel is None:
         return KickTrial(False, 0.0, 0.0, math.pi, not is_fallen(p), is_fallen(p), 0.0,
                          walked * CYCLE_S, None)
+    if walking is not kick.walker:
+        kick.walker.reset()
     kick.start(p, direction, power, ball=rel)
     fell = False
     cycles = watched = 0
@@ -120,8 +131,7 @@ def kick_trial(start: tuple[float, float, float], target_yaw: float = 0.0, power
     last = np.array(server.ball_position()[:2])
     for k in range(round(settle_s / CYCLE_S)):
         # the walk the kick leaves winds down for a second, then the robot stands
-        command = kick.walker if kick.shares_walker else walker
-        msg = command.step(AFTER_KICK, p) if k < round(WIND_DOWN_S / CYCLE_S) \
+        msg = kick.walker.step(AFTER_KICK, p) if k < round(WIND_DOWN_S / CYCLE_S) \
             else walker.stand(p)
         p = server.cycle({key: msg})[key]
         fell |= is_fallen(p)

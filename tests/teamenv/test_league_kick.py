@@ -319,3 +319,43 @@ def test_a_1v1_league_match_on_the_local_server_has_a_kick_of_3m(tmp_path):
     # the ball starts at the centre spot; a kick takes it >= 3 m from there
     assert float(np.max(np.hypot(*ball.T))) >= 3.0
     assert len(replay.kick_cycle) >= 1
+
+
+def test_with_another_walk_the_kicks_walker_takes_over_near_the_ball():
+    from teamenv.league.adapter import Request, RequestEncoder
+    from teamenv.league.controller import torso_pose
+
+    class Other:   # e.g. the reference network
+        def __init__(self):
+            self.steps = self.resets = 0
+
+        def reset(self):
+            self.resets += 1
+
+        def stand(self, perception):
+            return "(stand)"
+
+        def step(self, command, perception):
+            self.steps += 1
+            return "(other)"
+
+    p = Perception(**{**_perception().__dict__, "vision": None})   # no sighting this cycle
+    x, y, yaw = torso_pose(p)
+    other = Other()
+    enc = RequestEncoder(other, "agent K_1", get_up=None)
+    assert enc.kick.shares_walker and enc.kick.walker is not other
+
+    def ball_ahead(d):
+        enc.ball.world = np.array([x + d * math.cos(yaw), y + d * math.sin(yaw), 0.11])
+        enc.ball.age_s = 0.0
+
+    ball_ahead(3.0)
+    assert enc.encode(Request(kick=(1.0, 0.0)), p) == "(other)"      # far: the team's walk
+    ball_ahead(0.7)
+    msg = enc.encode(Request(kick=(1.0, 0.0)), p)                    # near: our walker
+    assert msg.count("(") == len(MOTORS) and other.steps == 1
+    enc.encode(Request(walk=(0.3, 0.0, 0.0)), p)   # the kick request holds (ball within 1 m)
+    assert other.steps == 1
+    ball_ahead(3.0)
+    assert enc.encode(Request(walk=(0.3, 0.0, 0.0)), p) == "(other)"   # back, afresh
+    assert other.resets == 1
