@@ -47,7 +47,8 @@ def test_calibration_writes_a_profile_the_loader_accepts(tmp_path):
     error = rng.normal(0.0, 8.0, 120)
     kicks = tmp_path / "kicks.json"
     kicks.write_text(json.dumps({"rows": [
-        {"kicked": True, "travel": float(t), "error_deg": float(e)} for t, e in zip(travel, error)]
+        {"kicked": True, "travel": float(t), "error_deg": float(e)}
+        for t, e in zip(travel, error, strict=True)]
         + [{"kicked": False, "travel": 0.0, "error_deg": 0.0}]}))
     getup = tmp_path / "getup.json"
     getup.write_text(json.dumps([{"success": True, "time_to_up": 3.0},

@@ -46,9 +46,13 @@ from .team_client import TeamClient, join_teams
 
 #: players of the ``ssim`` rules (7 v 7 on fifa7vs7)
 MAX_TEAM_SIZE = 7
-#: our field preset of the server's ``fifa7vs7`` and the robot profile of the env's teams
+#: our field preset of the server's ``fifa7vs7``
 FIELD = "mj7v7"
-LOCOMOTION_PROFILE = "t1_mj"
+#: the body the teams plan with on the server (``TeamContext.body``): ``t1_league``, what the
+#: league client's T1 really does there (its walk, kick and get-up measured on the server's
+#: physics by ``benchmarks/calibrate_t1_league.py``), so a team asks for the kicks and walks
+#: its robots have
+LOCOMOTION_PROFILE = "t1_league"
 
 
 def _network_walker() -> LocomotionController:

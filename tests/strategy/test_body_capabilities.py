@@ -50,9 +50,11 @@ def test_capabilities_are_the_profiles_numbers():
         assert body.forward_speed(100.0) == p.envelope_vx_forward or \
             body.forward_speed(100.0) <= p.envelope_vx_forward
         assert body.forward_speed(0.0) == 0.0
+    # the league client's body (benchmarks/calibrate_t1_league.py): its own kick and walk
     league = body_capabilities("t1_league")
-    assert league.kick_distance_mean_m == pytest.approx(1.17)
-    assert league.forward_speed(1.2) == pytest.approx(0.552)
+    assert league.kick_distance_mean_m == pytest.approx(4.859)
+    assert league.forward_speed(1.2) == pytest.approx(1.068)
+    assert league.kick_distance_mean_m < body_capabilities("t1_mj").kick_distance_mean_m
 
 
 @pytest.mark.parametrize("profile", ["t1_mj", "t1_league"])
