@@ -19,8 +19,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from teamenv.replay import Replay, load_replay
 from teamenv.match import MatchOptions
+from teamenv.replay import Replay, load_replay
 from teamenv.tournament import ResultStore, round_robin, run_tournament
 from teamenv.viewer.server import ViewerServer
 from teamenv.viewer.sources import ViewerSource, open_source
