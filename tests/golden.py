@@ -1,7 +1,7 @@
 """Replay hashes of seeded matches and env runs, to show that a speed-up changed no result.
 
 ``python -m tests.golden`` prints the current hashes; ``tests/golden_hashes.json`` holds the
-committed ones (recorded before the speed work of issue 16) and
+committed ones (recorded before the speed work) and
 ``tests/test_golden_hashes.py`` compares the two under this CPU's own NumPy/OpenBLAS kernels,
 under AVX2-only kernels and under ``PINNED_ENV`` (NumPy's SSE baseline, OpenBLAS's Haswell
 kernels): the simulation and the built-in teams use ``portable_math`` where those kernels round
