@@ -3,18 +3,17 @@
 NumPy picks a kernel for ``exp``, ``log``, ``arctan2``, ``tanh``, ``power`` ... by the CPU it
 runs on (AVX-512, AVX2, SSE), and the kernels round the last bit differently; a simulation
 that feeds such bits back into itself (chaos) then plays another match on another machine.
-Two paths here avoid those kernels, each fixed for given inputs:
-
-- small inputs (at most ``SMALL`` elements, the common case on the match path) go element by
-  element through Python's ``math`` module, the C library's scalar functions, which choose
-  their code path by FMA/AVX2 support only (the same on every AVX2 machine);
-- larger arrays are computed only with operations IEEE 754 rounds exactly — ``+ - * /``,
-  ``sqrt``, ``floor``, ``ldexp``/``frexp``, comparisons, ``copysign`` — whose result does not
-  depend on the SIMD width or on any library: within 1-2 ulp of the correctly rounded value
-  (tested against mpmath), with C99's special values (signed zeros, infinities, NaN).
+Every element goes through Python's ``math`` module, the C library's scalar functions, which
+choose their code path by FMA/AVX2 support only (the same on every AVX2 machine), whatever the
+size of the array it is in: an agent's value is the same computed alone or in a team's batch.
+Where ``math`` raises instead of returning C99's special value (``log(0)``, ``exp(1000)``,
+``asin(2)``, ``pow(0, -1)``), that element takes a vectorised path computed only with
+operations IEEE 754 rounds exactly — ``+ - * /``, ``sqrt``, ``floor``, ``ldexp``/``frexp``,
+comparisons, ``copysign`` — within 1-2 ulp of the correctly rounded value (tested against
+mpmath), which gives C99's special values (signed zeros, infinities, NaN).
 
 So the same input gives the same output on every such machine with the same NumPy and C
-library; the two paths may differ from each other in the last bit. Functions take scalars or
+library. Functions take scalars or
 arrays (any float dtype; computed in float64) and return float64 like the NumPy function of
 the same name. This package is a leaf below ``comms`` and ``locomotion``: it imports nothing
 but NumPy.
@@ -23,17 +22,13 @@ but NumPy.
 from __future__ import annotations
 
 import math
-from itertools import repeat
+from functools import wraps
 from typing import Any
 
 import numpy as np
 
 __all__ = ["arccos", "arcsin", "arctan", "arctan2", "exp", "exp2", "expm1", "log", "log2",
-           "log10", "matmul", "power", "tanh", "SMALL"]
-
-SMALL = 64
-"""Inputs with at most this many elements take the C library's scalar functions (faster than
-the vectorised path below ~100 elements)."""
+           "log10", "matmul", "power", "tanh"]
 
 # Constants split hi + lo (hi + lo = the value to ~2^-106); the HI parts of ln 2 and log10(2)
 # end in zero bits so that k * HI is exact for every binary exponent k.
@@ -69,28 +64,6 @@ def _array(x: Any) -> np.ndarray:
 
 def _out(result: np.ndarray) -> Any:
     return result[()] if result.ndim == 0 else result
-
-
-def _libm(function: Any, x: np.ndarray, y: np.ndarray | None = None) -> Any:
-    """``function`` (a ``math`` function) on each element of a small ``x`` (and ``y``: same
-    shape, or 0-d), as a float64 array or scalar; None where the vectorised path must answer:
-    a large input, other shapes, or a value outside the ``math`` function's domain (it raises
-    where C99 returns inf, NaN or -inf)."""
-    if x.size > SMALL:
-        return None
-    args = [x.ravel().tolist()]
-    if y is not None:
-        if y.ndim == 0:
-            args.append(repeat(float(y)))
-        elif y.shape == x.shape:
-            args.append(y.ravel().tolist())
-        else:
-            return None
-    try:
-        values = list(map(function, *args))
-    except (ValueError, OverflowError):
-        return None
-    return np.float64(values[0]) if x.ndim == 0 else np.array(values).reshape(x.shape)
 
 
 def _horner(z: np.ndarray, coefficients: tuple[float, ...]) -> np.ndarray:
@@ -142,22 +115,16 @@ def _pow2(x: float) -> float:
     return math.pow(2.0, x)
 
 
-def exp(x: Any) -> Any:
+def _vectorised_exp(x: Any) -> Any:
     """e**x."""
     x = _array(x)
-    small = _libm(math.exp, x)
-    if small is not None:
-        return small
     with np.errstate(**_QUIET):
         return _out(_exp_hi_lo(x))
 
 
-def exp2(x: Any) -> Any:
+def _vectorised_exp2(x: Any) -> Any:
     """2**x."""
     x = _array(x)
-    small = _libm(_pow2, x)
-    if small is not None:
-        return small
     with np.errstate(**_QUIET):
         xc = _clamp(x, -1100.0, 1100.0)
         n = np.floor(xc + 0.5)
@@ -166,12 +133,9 @@ def exp2(x: Any) -> Any:
         return _out(np.ldexp(1.0 + _expm1_reduced(r), n.astype(np.int32)))
 
 
-def expm1(x: Any) -> Any:
+def _vectorised_expm1(x: Any) -> Any:
     """e**x - 1, accurate near 0."""
     x = _array(x)
-    small = _libm(math.expm1, x)
-    if small is not None:
-        return small
     with np.errstate(**_QUIET):
         n, r = _reduce_exp(_clamp(x, -60.0, 710.0))
         em = _expm1_reduced(r)
@@ -179,12 +143,9 @@ def expm1(x: Any) -> Any:
         return _out(np.where(x == 0.0, x, y))  # expm1(-0) = -0
 
 
-def tanh(x: Any) -> Any:
+def _vectorised_tanh(x: Any) -> Any:
     """Hyperbolic tangent, from expm1(-2|x|)."""
     x = _array(x)
-    small = _libm(math.tanh, x)
-    if small is not None:
-        return small
     with np.errstate(**_QUIET):
         em = _array(expm1(-2.0 * np.abs(x)))
         return _out(np.copysign(-em / (em + 2.0), x))
@@ -213,34 +174,25 @@ def _log_domain(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return np.where(x == np.inf, np.inf, y)
 
 
-def log(x: Any) -> Any:
+def _vectorised_log(x: Any) -> Any:
     """Natural logarithm."""
     x = _array(x)
-    small = _libm(math.log, x)
-    if small is not None:
-        return small
     with np.errstate(**_QUIET):
         k, f, hfsq, c = _log_parts(x)
         return _out(_log_domain(x, k * _LN2_HI - ((hfsq - (c + k * _LN2_LO)) - f)))
 
 
-def log2(x: Any) -> Any:
+def _vectorised_log2(x: Any) -> Any:
     """Base-2 logarithm (exact for powers of two)."""
     x = _array(x)
-    small = _libm(math.log2, x)
-    if small is not None:
-        return small
     with np.errstate(**_QUIET):
         k, f, hfsq, c = _log_parts(x)
         return _out(_log_domain(x, k + (f - (hfsq - c)) * _INV_LN2))
 
 
-def log10(x: Any) -> Any:
+def _vectorised_log10(x: Any) -> Any:
     """Base-10 logarithm."""
     x = _array(x)
-    small = _libm(math.log10, x)
-    if small is not None:
-        return small
     with np.errstate(**_QUIET):
         k, f, hfsq, c = _log_parts(x)
         y = k * _LOG10_2_HI + ((f - (hfsq - c)) * _INV_LN10 + k * _LOG10_2_LO)
@@ -263,7 +215,7 @@ def _log_hi_lo(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return hi, lo - (hi - s)
 
 
-def power(x: Any, y: Any) -> Any:
+def _vectorised_power(x: Any, y: Any) -> Any:
     """x**y with C99's special cases (negative x only with integral y).
 
     Within 2 ulp while |y log x| <= 10; log x carries ~2^-62 relative error, so the error grows
@@ -272,9 +224,6 @@ def power(x: Any, y: Any) -> Any:
     if np.ndim(y) == 0 and float(y) == 2.0:  # exact, as NumPy's own fast path
         return _out(x * x)
     y = _array(y)
-    small = _libm(math.pow, x, y) if x.shape == np.broadcast_shapes(x.shape, y.shape) else None
-    if small is not None:
-        return small
     with np.errstate(**_QUIET):
         a = np.abs(x)
         regular = (a > 0.0) & (a < np.inf)
@@ -307,12 +256,9 @@ def _atan_unit(a: np.ndarray) -> np.ndarray:
     return _ATAN_HI[i] + (_ATAN_LO[i] + (t + t * z * _horner(z, _ATAN_P)))
 
 
-def arctan2(y: Any, x: Any) -> Any:
+def _vectorised_arctan2(y: Any, x: Any) -> Any:
     """Angle of the point (x, y), in [-pi, pi], with C99's signed zeros and infinities."""
     y, x = _array(y), _array(x)
-    small = _libm(math.atan2, y, x) if y.shape == x.shape else None
-    if small is not None:
-        return small
     with np.errstate(**_QUIET):
         ay, ax = np.abs(y), np.abs(x)
         a = np.minimum(ay, ax) / np.maximum(ay, ax)
@@ -331,12 +277,9 @@ def arctan2(y: Any, x: Any) -> Any:
         return _out(np.copysign(th, y))
 
 
-def arctan(x: Any) -> Any:
+def _vectorised_arctan(x: Any) -> Any:
     """Inverse tangent, in [-pi/2, pi/2]."""
     x = _array(x)
-    small = _libm(math.atan, x)
-    if small is not None:
-        return small
     with np.errstate(**_QUIET):
         a = np.abs(x)
         big = a > 1.0
@@ -353,21 +296,15 @@ def _cosine_side(x: np.ndarray) -> np.ndarray:
         return np.sqrt((1.0 - x) * (1.0 + x))
 
 
-def arcsin(x: Any) -> Any:
+def _vectorised_arcsin(x: Any) -> Any:
     """Inverse sine, in [-pi/2, pi/2]; NaN outside [-1, 1]."""
     x = _array(x)
-    small = _libm(math.asin, x)
-    if small is not None:
-        return small
     return arctan2(x, _cosine_side(x))
 
 
-def arccos(x: Any) -> Any:
+def _vectorised_arccos(x: Any) -> Any:
     """Inverse cosine, in [0, pi]; NaN outside [-1, 1]."""
     x = _array(x)
-    small = _libm(math.acos, x)
-    if small is not None:
-        return small
     return arctan2(_cosine_side(x), x)
 
 
@@ -388,3 +325,58 @@ def matmul(a: Any, b: Any) -> Any:
     if a.ndim == 1:
         return np.einsum("j,...jk->...k", a, b)
     return np.einsum("...ij,...jk->...ik", a, b)
+
+
+# -- the public functions: the C library element by element -------------------------------
+def _elementwise(function: Any, vectorised: Any, name: str) -> Any:
+    """``function`` (a ``math`` function of one or two floats) on every element of its
+    broadcast arguments; an element where it raises takes ``vectorised`` (C99's value)."""
+
+    @wraps(vectorised)
+    def portable(*args: Any) -> Any:
+        arrays = np.broadcast_arrays(*(_array(a) for a in args))
+        columns = [a.ravel().tolist() for a in arrays]
+        try:
+            values = list(map(function, *columns))
+            failed = None
+        except (ValueError, OverflowError):
+            values, failed = [], []
+            for items in zip(*columns, strict=True):
+                try:
+                    values.append(function(*items))
+                    failed.append(False)
+                except (ValueError, OverflowError):
+                    values.append(0.0)
+                    failed.append(True)
+        out = np.array(values, dtype=np.float64).reshape(arrays[0].shape)
+        if failed is not None:
+            mask = np.array(failed).reshape(out.shape)
+            with np.errstate(**_QUIET):
+                out = np.where(mask, _array(vectorised(*arrays)), out)
+        return _out(out)
+
+    portable.__name__ = portable.__qualname__ = name
+    return portable
+
+
+exp = _elementwise(math.exp, _vectorised_exp, "exp")
+exp2 = _elementwise(_pow2, _vectorised_exp2, "exp2")
+expm1 = _elementwise(math.expm1, _vectorised_expm1, "expm1")
+tanh = _elementwise(math.tanh, _vectorised_tanh, "tanh")
+log = _elementwise(math.log, _vectorised_log, "log")
+log2 = _elementwise(math.log2, _vectorised_log2, "log2")
+log10 = _elementwise(math.log10, _vectorised_log10, "log10")
+arctan2 = _elementwise(math.atan2, _vectorised_arctan2, "arctan2")
+arctan = _elementwise(math.atan, _vectorised_arctan, "arctan")
+arcsin = _elementwise(math.asin, _vectorised_arcsin, "arcsin")
+arccos = _elementwise(math.acos, _vectorised_arccos, "arccos")
+_power = _elementwise(math.pow, _vectorised_power, "power")
+
+
+def power(x: Any, y: Any) -> Any:
+    """x**y with C99's special cases (negative x only with integral y); ``y == 2`` is ``x * x``
+    (exact, as NumPy's own fast path)."""
+    if np.ndim(y) == 0 and float(y) == 2.0:
+        x = _array(x)
+        return _out(x * x)
+    return _power(x, y)
