@@ -3,23 +3,18 @@ profile that the loader accepts (synthetic measurements: the script's arithmetic
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import math
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from locomotion.profile import load_profile
+from tests.benchmark_scripts import load_benchmark
 
 ROOT = Path(__file__).resolve().parents[1]
-_spec = importlib.util.spec_from_file_location("calibrate_t1_league",
-                                               ROOT / "benchmarks" / "calibrate_t1_league.py")
-cal = importlib.util.module_from_spec(_spec)
-sys.modules["calibrate_t1_league"] = cal
-_spec.loader.exec_module(cal)
+cal = load_benchmark("calibrate_t1_league")
 
 
 def synthetic_walk() -> dict:

@@ -3,21 +3,17 @@ results JSON, ranks, the agreement table, the figure and the docs page."""
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import math
 import shutil
-import sys
 from pathlib import Path
 
 import pytest
 
+from tests.benchmark_scripts import load_benchmark
+
 ROOT = Path(__file__).resolve().parents[1]
-_spec = importlib.util.spec_from_file_location("fidelity_study",
-                                               ROOT / "benchmarks" / "fidelity_study.py")
-study = importlib.util.module_from_spec(_spec)
-sys.modules["fidelity_study"] = study
-_spec.loader.exec_module(study)
+study = load_benchmark("fidelity_study")
 STORED = ROOT / "tests" / "data" / "fidelity_study_tiny"
 
 

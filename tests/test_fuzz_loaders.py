@@ -4,18 +4,12 @@ replay (checksummed) never loads other content. The 10^4-per-kind run is the ben
 
 from __future__ import annotations
 
-import importlib.util
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
-_PATH = Path(__file__).resolve().parents[1] / "benchmarks" / "fuzz_loaders.py"
-_spec = importlib.util.spec_from_file_location("fuzz_loaders", _PATH)
-fl = importlib.util.module_from_spec(_spec)
-sys.modules["fuzz_loaders"] = fl
-_spec.loader.exec_module(fl)
+from tests.benchmark_scripts import load_benchmark
+
+fl = load_benchmark("fuzz_loaders")
 
 FILES_PER_KIND = 300
 

@@ -2,19 +2,14 @@
 
 from __future__ import annotations
 
-import importlib.util
 import math
-import sys
 from dataclasses import dataclass
-from pathlib import Path
 
 import pytest
 
-_PATH = Path(__file__).resolve().parents[1] / "benchmarks" / "goal_rarity.py"
-_spec = importlib.util.spec_from_file_location("goal_rarity", _PATH)
-gr = importlib.util.module_from_spec(_spec)
-sys.modules["goal_rarity"] = gr
-_spec.loader.exec_module(gr)
+from tests.benchmark_scripts import load_benchmark
+
+gr = load_benchmark("goal_rarity")
 
 
 @dataclass(frozen=True)

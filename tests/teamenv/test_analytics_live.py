@@ -3,10 +3,6 @@ same seeded match (the two read the same definitions: one from the env, one from
 
 from __future__ import annotations
 
-import importlib.util
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
@@ -14,12 +10,9 @@ import teamenv
 from teamenv.analytics.stats import match_stats
 from teamenv.config import RulesConfig
 from teamenv.replay import ReplayRecorder, load_replay
+from tests.benchmark_scripts import load_benchmark
 
-_PATH = Path(__file__).resolve().parents[2] / "benchmarks" / "goal_rarity.py"
-_spec = importlib.util.spec_from_file_location("goal_rarity", _PATH)
-gr = importlib.util.module_from_spec(_spec)
-sys.modules.setdefault("goal_rarity", gr)
-_spec.loader.exec_module(gr)
+gr = load_benchmark("goal_rarity")
 
 
 @pytest.mark.parametrize("seed", [11])

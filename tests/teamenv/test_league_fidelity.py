@@ -2,20 +2,15 @@
 
 from __future__ import annotations
 
-import importlib.util
 import math
-import sys
-from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
-_PATH = Path(__file__).resolve().parents[2] / "benchmarks" / "fidelity_ranking.py"
-_spec = importlib.util.spec_from_file_location("fidelity_ranking", _PATH)
-fr = importlib.util.module_from_spec(_spec)
-sys.modules["fidelity_ranking"] = fr   # dataclasses look their module up there
-_spec.loader.exec_module(fr)
+from tests.benchmark_scripts import load_benchmark
+
+fr = load_benchmark("fidelity_ranking")
 
 
 def _round_robin(strength: dict[str, float], rounds: int, rng: np.random.Generator, noise=0.0):
