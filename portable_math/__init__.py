@@ -221,8 +221,6 @@ def _vectorised_power(x: Any, y: Any) -> Any:
     Within 2 ulp while |y log x| <= 10; log x carries ~2^-62 relative error, so the error grows
     by about 1 ulp per 35 of |y log x| (up to ~20 ulp near overflow)."""
     x = _array(x)
-    if np.ndim(y) == 0 and float(y) == 2.0:  # exact, as NumPy's own fast path
-        return _out(x * x)
     y = _array(y)
     with np.errstate(**_QUIET):
         a = np.abs(x)
@@ -349,10 +347,10 @@ def _elementwise(function: Any, vectorised: Any, name: str) -> Any:
                     values.append(0.0)
                     failed.append(True)
         out = np.array(values, dtype=np.float64).reshape(arrays[0].shape)
-        if failed is not None:
+        if failed is not None:   # only the refused elements take the vectorised path
             mask = np.array(failed).reshape(out.shape)
             with np.errstate(**_QUIET):
-                out = np.where(mask, _array(vectorised(*arrays)), out)
+                out[mask] = vectorised(*(a[mask] for a in arrays))
         return _out(out)
 
     portable.__name__ = portable.__qualname__ = name
