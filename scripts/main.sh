@@ -12,10 +12,10 @@ mkdir -p out
 echo "== one match: full vs chaser, simspark 11 v 11, two 60 s halves =="
 "$VENV/bin/teamenv" match full chaser --seed 1 --half-time 60 --replay out/match.npz --gif out/match.gif
 echo
-echo "== a small tournament: round robin of full, chaser and static, 7 v 7 on mj7v7, two 150 s halves, =="
-echo "== one seeded round x both sides per pairing; ranked on points, then on expected goals with intervals =="
+echo "== a small tournament: round robin of full, chaser and static, 7 v 7 on mj7v7, two 60 s halves, =="
+echo "== seeded rounds x both sides per pairing until each pairing is separated on territory (at most 4) =="
 echo "== (silent, the full team without talk, plays the same state-mode match as full; vision mode: docs/team_strength.md) =="
 rm -f out/tournament.sqlite
-"$VENV/bin/teamenv" tournament run full chaser static --games 1 \
-    --field mj7v7 --team-size 7 --half-time 150 --db out/tournament.sqlite -j 2 \
-    --rank-by xg --csv out/table.csv --json out/table.json --plots out/plots
+"$VENV/bin/teamenv" tournament run full chaser static --games 4 --stop-when-separated \
+    --field mj7v7 --team-size 7 --half-time 60 --db out/tournament.sqlite -j 2 \
+    --rank-by territory --csv out/table.csv --json out/table.json --plots out/plots

@@ -1,5 +1,5 @@
-"""Rankings on goals, expected goals or a composite, with confidence intervals, and the
-sequential test that says when a pairing is separated.
+"""Rankings on goals, expected goals, a composite or territory, with confidence intervals,
+and the sequential test that says when a pairing is separated.
 
 A match gives each team a *margin* on a metric: its value minus the opponent's. Metrics:
 
@@ -7,10 +7,18 @@ A match gives each team a *margin* on a metric: its value minus the opponent's. 
 - ``xg``: expected goals (``teamenv.analytics.xg``), which varies less from match to match
   than goals;
 - ``composite``: ``COMPOSITE_WEIGHTS`` · (goals, xG): half the goal margin plus half the xG
-  margin — goals still count, the xG half damps their luck.
+  margin — goals still count, the xG half damps their luck;
+- ``territory``: how far past the centre line, towards the opponent's goal, the ball was on
+  average over the match (``TeamStats.territory_m``, metres; football's "field tilt"; the
+  margin is twice a side's value, as the opponent's is its negative). It has a
+  value in every match, goal or not, so it separates unequal teams in far fewer matches than
+  goals (docs/analytics.md); it measures who keeps the play in the other half, not who scores
+  — a team can hold ground and never shoot.
 
-A team's rating is its mean margin per match, with a bootstrap percentile interval over its
-matches. A pairing is *separated* once the t interval of the mean per-match margin excludes
+A team's rating is its mean margin per match, with a bootstrap percentile interval. The
+bootstrap resamples each opponent's matches separately (stratified by opponent): a round
+robin fixes who plays whom, so the luck to be measured is within each pairing, and pooling
+the matches would add the spread between a strong and a weak opponent to every interval. A pairing is *separated* once the t interval of the mean per-match margin excludes
 zero (at least ``MIN_MATCHES`` matches; repeated looks make this a sequential rule whose
 real error rate is above the nominal 5 %, see docs/analytics.md).
 """
@@ -25,7 +33,9 @@ import numpy as np
 
 from teamenv.errors import ConfigError
 
-RANK_METRICS = ("goals", "xg", "composite")
+RANK_METRICS = ("goals", "xg", "composite", "territory")
+# The TeamStats field a stored-statistics metric reads (goals come from the official score).
+STATS_FIELD = {"xg": "xg", "territory": "territory_m"}
 COMPOSITE_WEIGHTS = {"goals": 0.5, "xg": 0.5}
 MIN_MATCHES = 3
 
@@ -73,38 +83,87 @@ def rank_teams(matches: Iterable[MatchMargins], metric: str, teams: Sequence[str
                n_bootstrap: int = 1000, seed: int = 0, confidence: float = 0.95
                ) -> list[TeamRank]:
     """Teams by mean margin per match on ``metric`` (best first), each with a ``confidence``
-    bootstrap percentile interval over its own matches (``n_bootstrap`` resamples drawn with
-    ``numpy.random.default_rng(seed)``; 0: no interval, the mean itself)."""
+    bootstrap percentile interval over its own matches, resampled within each opponent
+    (``n_bootstrap`` resamples drawn with ``numpy.random.default_rng(seed)``; 0: no interval,
+    the mean itself)."""
     check_metric(metric)
-    margins: dict[str, list[float]] = {t: [] for t in teams or ()}
+    by_opponent: dict[str, dict[str, list[float]]] = {t: {} for t in teams or ()}
     for m in matches:
         d = m.margin(metric)
-        margins.setdefault(m.a, []).append(d)
-        margins.setdefault(m.b, []).append(-d)
+        by_opponent.setdefault(m.a, {}).setdefault(m.b, []).append(d)
+        by_opponent.setdefault(m.b, {}).setdefault(m.a, []).append(-d)
     rng = np.random.default_rng(seed)
     out = []
-    for team in sorted(margins):
-        x = np.asarray(margins[team], dtype=float)
-        if x.size == 0:
+    for team in sorted(by_opponent):
+        groups = [np.asarray(by_opponent[team][o], dtype=float) for o in sorted(by_opponent[team])]
+        n = sum(g.size for g in groups)
+        if n == 0:
             out.append(TeamRank(team, metric, math.nan, math.nan, math.nan, 0))
             continue
-        low, high = bootstrap_interval(x, n_bootstrap, rng, confidence)
-        out.append(TeamRank(team, metric, float(x.mean()), low, high, int(x.size)))
+        mean = float(np.concatenate(groups).mean())
+        low, high = stratified_bootstrap_interval(groups, n_bootstrap, rng, confidence)
+        out.append(TeamRank(team, metric, mean, low, high, n))
     out.sort(key=lambda r: (-(r.mean if not math.isnan(r.mean) else -math.inf), r.team))
     return [TeamRank(r.team, r.metric, r.mean, r.low, r.high, r.matches, k + 1)
             for k, r in enumerate(out)]
 
 
-def bootstrap_interval(x: np.ndarray, n_bootstrap: int, rng: np.random.Generator,
-                       confidence: float = 0.95) -> tuple[float, float]:
-    """Percentile interval of the mean of ``x`` over ``n_bootstrap`` resamples."""
-    x = np.asarray(x, dtype=float)
-    if x.size < 2 or n_bootstrap < 1:
-        return float(x.mean()), float(x.mean())
-    means = x[rng.integers(0, x.size, size=(n_bootstrap, x.size))].mean(axis=1)
+def stratified_bootstrap_interval(groups: Sequence[np.ndarray], n_bootstrap: int,
+                                  rng: np.random.Generator, confidence: float = 0.95
+                                  ) -> tuple[float, float]:
+    """Percentile interval of the mean of all values when each group is resampled on its own
+    (its size kept): the interval of a mean over a fixed design. A group of one value adds
+    no spread."""
+    sizes = [g.size for g in groups]
+    total = sum(sizes)
+    mean = float(np.concatenate(groups).mean()) if total else math.nan
+    if total < 2 or n_bootstrap < 1:
+        return mean, mean
+    sums = np.zeros(n_bootstrap)
+    for g in groups:
+        sums += g[rng.integers(0, g.size, size=(n_bootstrap, g.size))].sum(axis=1)
     tail = (1.0 - confidence) / 2.0 * 100.0
-    low, high = np.percentile(means, [tail, 100.0 - tail])
+    low, high = np.percentile(sums / total, [tail, 100.0 - tail])
     return float(low), float(high)
+
+
+def head_to_head(matches: Iterable[MatchMargins], metric: str, confidence: float = 0.95,
+                 min_matches: int = MIN_MATCHES) -> list[PairingMargin]:
+    """Each pairing's mean margin (first team named over the second, teams in sorted order)
+    with its ``confidence`` t interval and whether it is ``separated``."""
+    check_metric(metric)
+    margins: dict[tuple[str, str], list[float]] = {}
+    for m in matches:
+        d = m.margin(metric)
+        a, b = sorted((m.a, m.b))
+        margins.setdefault((a, b), []).append(d if m.a == a else -d)
+    out = []
+    for (a, b), x in sorted(margins.items()):
+        mean, low, high = t_interval(x, confidence)
+        out.append(PairingMargin(a, b, metric, mean, low, high, len(x),
+                                 separated(x, confidence, min_matches)))
+    return out
+
+
+@dataclass(frozen=True)
+class PairingMargin:
+    """``a``'s mean margin over ``b`` per match on ``metric``, its t interval, the number of
+    matches and whether the pairing is separated."""
+
+    a: str
+    b: str
+    metric: str
+    mean: float
+    low: float
+    high: float
+    matches: int
+    separated: bool
+
+    def leader(self) -> str | None:
+        """The team ahead once separated, else None."""
+        if not self.separated:
+            return None
+        return self.a if self.mean > 0 else self.b
 
 
 def t_interval(x: Sequence[float], confidence: float = 0.95) -> tuple[float, float, float]:
@@ -143,25 +202,33 @@ def matches_to_separate(margins: Sequence[float], confidence: float = 0.95,
 def match_margins(records: Iterable, team_stats: dict[int, dict[str, dict]] | None = None
                   ) -> list[MatchMargins]:
     """MatchMargins of stored matches (``MatchRecord``s; left team as ``a``): goals from the
-    official score, xG from ``team_stats`` (``ResultStore.team_stats``) where stored."""
+    official score, xG and territory from ``team_stats`` (``ResultStore.team_stats``)
+    where stored."""
     out = []
     for r in records:
         values = {"goals": (float(r.left_official), float(r.right_official))}
         sides = (team_stats or {}).get(r.id)
         if sides and "left" in sides and "right" in sides:
-            values["xg"] = (float(sides["left"]["xg"]), float(sides["right"]["xg"]))
+            for metric, name in STATS_FIELD.items():
+                if name in sides["left"] and name in sides["right"]:
+                    values[metric] = (float(sides["left"][name]), float(sides["right"][name]))
         out.append(MatchMargins(r.left_team, r.right_team, values))
     return out
 
 
+def has_numbers(match: MatchMargins, metric: str) -> bool:
+    """Whether ``match`` has the values ``metric`` needs."""
+    check_metric(metric)
+    need = set(COMPOSITE_WEIGHTS) if metric == "composite" else {metric}
+    return need <= set(match.values)
+
+
 def usable(matches: Sequence[MatchMargins], metric: str) -> list[MatchMargins]:
     """The matches that have the numbers ``metric`` needs; none at all is a clear error."""
-    check_metric(metric)
-    need = {"goals"} if metric == "goals" else ({"xg"} if metric == "xg" else
-                                                set(COMPOSITE_WEIGHTS))
-    keep = [m for m in matches if need <= set(m.values)]
+    keep = [m for m in matches if has_numbers(m, metric)]
     if matches and not keep:
-        raise ConfigError(f"rank by {metric}: no stored match has expected goals; they are "
+        what = "territory" if metric == "territory" else "expected goals"
+        raise ConfigError(f"rank by {metric}: no stored match has {what}; they are "
                           "stored when a tournament runs with statistics on (the default "
                           "since teamenv.analytics; older databases have none)")
     return keep

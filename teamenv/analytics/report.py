@@ -128,9 +128,9 @@ def match_page(path: str | Path, model: XGModel | None = None) -> str:
 
 
 def tournament_page(db: str | Path, name: str | None = None) -> str:
-    """The HTML page of a stored tournament: league table, rankings by goals, xG and the
-    composite with intervals, per-team mean statistics and figures."""
-    from teamenv.analytics.ranking import RANK_METRICS, match_margins, rank_teams
+    """The HTML page of a stored tournament: league table, rankings on every metric of
+    ``teamenv.analytics.ranking`` with intervals, per-team mean statistics and figures."""
+    from teamenv.analytics.ranking import RANK_METRICS, has_numbers, match_margins, rank_teams
     from teamenv.tournament.store import ResultStore
     from teamenv.tournament.table import league_table
 
@@ -151,7 +151,7 @@ def tournament_page(db: str | Path, name: str | None = None) -> str:
     margins = match_margins(records, team_stats)
     ranks = {}
     for metric in RANK_METRICS:
-        usable = [m for m in margins if metric == "goals" or "xg" in m.values]
+        usable = [m for m in margins if has_numbers(m, metric)]
         if not usable:
             continue
         ranks[metric] = rank_teams(usable, metric, teams)

@@ -4,6 +4,8 @@ Every number is defined in ``docs/analytics.md``; in short (per side): possessio
 share of PlayOn cycles after its last contact; passes, shots and set plays follow
 ``teamenv.analytics.events``; ``xg`` sums the xG model over its kicks on frame; ball progress
 is how far the ball moved towards the opponents' goal (PlayOn, in its possession, net);
+territory is the ball's mean distance past the centre line towards the opponents' goal over
+the whole match, stoppages included (negative: mostly in its own half);
 thirds are the PlayOn share of cycles the ball spent in each third seen from the side;
 distance walked leaves out beams and placements; a fall is a cycle the player goes down;
 messages count what its agents said (and bytes), the channel's drop records of them, and the
@@ -79,6 +81,7 @@ class TeamStats:
     attempts_on_frame: int = 0
     xg: float = 0.0
     ball_progress_m: float = 0.0
+    territory_m: float = 0.0
     third_pct: dict[str, float] = field(default_factory=lambda: dict.fromkeys(THIRDS, 0.0))
     distance_walked_m: float = 0.0
     falls: int = 0
@@ -153,7 +156,8 @@ class MatchStats:
         """A plain-text table of the main numbers, one column per side."""
         rows = [("goals", "goals"), ("xG", "xg"), ("shots (on frame)", None),
                 ("possession %", "possession_pct"), ("passes (completed)", None),
-                ("ball progress m", "ball_progress_m"), ("thirds % d/m/a", None),
+                ("ball progress m", "ball_progress_m"), ("territory m", "territory_m"),
+                ("thirds % d/m/a", None),
                 ("distance walked m", "distance_walked_m"), ("falls", "falls"),
                 ("messages sent (bytes)", None), ("dropped / heard team", None),
                 ("role agreement %", "role_agreement_pct"), ("set plays (taken)", None)]
@@ -292,6 +296,7 @@ def match_stats(replay: Replay, model: XGModel | None = None,
         sign = events.team_sign[:, side]
         mine = play_on & (events.possession == side)
         ts.ball_progress_m = float(np.sum(dx[mine] * sign[mine]))
+        ts.territory_m = float(np.mean(ball_x * sign)) if t else 0.0
         if n_play_on:
             third = third_index(ball_x[play_on], sign[play_on], half_length)
             counts = np.bincount(third, minlength=3)

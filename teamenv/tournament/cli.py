@@ -105,9 +105,12 @@ def _add_output_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--bootstrap", type=int, default=200,
                    help="bootstrap resamples for the rating intervals (0: none)")
     p.add_argument("--ratings-seed", type=int, default=0, help="seed of the bootstrap")
-    p.add_argument("--rank-by", choices=("goals", "xg", "composite"), default="goals",
-                   help="also rank teams by mean margin per match on goals, expected goals "
-                        "or the composite (docs/analytics.md), with bootstrap intervals")
+    from teamenv.analytics.ranking import RANK_METRICS
+
+    p.add_argument("--rank-by", choices=RANK_METRICS, default="goals",
+                   help="also rank teams by mean margin per match on goals, expected goals, "
+                        "the composite or territory (docs/analytics.md), with bootstrap "
+                        "intervals, and show each pairing's margin with its t interval")
 
 
 def _definition(args: argparse.Namespace) -> Any:
@@ -191,8 +194,8 @@ def _report(args: argparse.Namespace, db: Path, name: str | None, console: Any,
     if ratings is not None:
         console.print(rich_ratings(ratings, title=f"{tournament.name}: ratings"))
     if records:
-        from teamenv.analytics.ranking import match_margins, rank_teams, usable
-        from teamenv.tournament.table import rich_rank
+        from teamenv.analytics.ranking import head_to_head, match_margins, rank_teams, usable
+        from teamenv.tournament.table import rich_head_to_head, rich_rank
 
         rank_by = getattr(args, "rank_by", "goals")
         margins = usable(match_margins(records, team_stats), rank_by)
@@ -200,6 +203,8 @@ def _report(args: argparse.Namespace, db: Path, name: str | None, console: Any,
                            seed=args.ratings_seed)
         console.print(rich_rank(ranks, title=f"{tournament.name}: ranked by {rank_by}",
                                 used=len(margins), total=len(records)))
+        console.print(rich_head_to_head(head_to_head(margins, rank_by),
+                                        title=f"{tournament.name}: head to head on {rank_by}"))
     for idx, err in failures:
         console.print(f"match #{idx} missing: {err}")
     extra = {"tournament": tournament.to_json(), "matches_stored": len(records),

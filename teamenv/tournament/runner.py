@@ -91,8 +91,8 @@ def run_tournament(
     ``stats``: store each match's per-team statistics (``teamenv.analytics``) in the
     ``team_stats`` table; matches are recorded to a temporary replay for it when there is no
     ``replay_dir`` (the replay is deleted once its statistics are stored).
-    ``stop_when_separated``: a ranking metric ("goals", "xg", "composite"); matches are then
-    played round by round and a pairing whose stored matches already separate its teams at
+    ``stop_when_separated``: a ranking metric (``teamenv.analytics.ranking.RANK_METRICS``);
+    matches are then played round by round and a pairing whose stored matches already separate its teams at
     95 % (``teamenv.analytics.ranking.separated_pairings``) plays no further rounds.
     """
     if tournament is None and not resume:

@@ -169,7 +169,8 @@ def rich_rank(ranks: Sequence[Any], title: str | None = None, confidence: float 
     ranking metric and its bootstrap interval."""
     from rich.table import Table
 
-    caption = f"{int(round(confidence * 100))}% bootstrap intervals over each team's matches"
+    caption = (f"{int(round(confidence * 100))}% bootstrap intervals over each team's matches, "
+               "resampled within each opponent")
     if used is not None and total is not None and used != total:
         caption += f"; {used} of {total} matches have the numbers"
     table = Table(title=title, title_justify="left", caption=caption, caption_justify="left")
@@ -183,6 +184,24 @@ def rich_rank(ranks: Sequence[Any], title: str | None = None, confidence: float 
     return table
 
 
+def rich_head_to_head(pairings: Sequence[Any], title: str | None = None,
+                      confidence: float = 0.95) -> Any:
+    """A rich Table of ``teamenv.analytics.ranking.head_to_head``: each pairing's mean margin,
+    its t interval and which team is ahead once the interval excludes zero."""
+    from rich.table import Table
+
+    caption = (f"{int(round(confidence * 100))}% t intervals of the mean margin per match; "
+               "ahead: the interval excludes 0")
+    table = Table(title=title, title_justify="left", caption=caption, caption_justify="left")
+    table.add_column("pairing", overflow="fold", ratio=1, min_width=12)
+    for name in ("margin/match", "interval", "matches", "ahead"):
+        table.add_column(name, justify="right", no_wrap=True)
+    for p in pairings:
+        table.add_row(f"{p.a} vs {p.b}", f"{p.mean:+.2f}", f"[{p.low:+.2f}, {p.high:+.2f}]",
+                      str(p.matches), p.leader() or "not separated")
+    return table
+
+
 def _forfeits(row: TableRow) -> str:
     if not row.forfeits:
         return "0"
@@ -190,5 +209,5 @@ def _forfeits(row: TableRow) -> str:
                                            sorted(row.forfeit_reasons.items())) + ")"
 
 
-__all__ = ["TableRow", "goal_difference_matrix", "league_table", "rich_rank", "rich_ratings",
-           "rich_table", "write_csv", "write_json"]
+__all__ = ["TableRow", "goal_difference_matrix", "league_table", "rich_head_to_head",
+           "rich_rank", "rich_ratings", "rich_table", "write_csv", "write_json"]

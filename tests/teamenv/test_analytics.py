@@ -69,6 +69,11 @@ def test_match_stats_per_team(replay):
     assert s.shots[0]["outcome"] == "goal" and s.shots[0]["unum"] == 2
     assert (left.possession_lost, left.lost_in_third["middle"], right.possession_lost) == (1, 1, 0)
     assert right.ball_progress_m == pytest.approx(2.5, abs=1e-5) and left.ball_progress_m == 0
+    # territory: every row counts; the ball is at x = -10 (rows 30-39), rolls -10.5 .. -12.5
+    # (40-44), and stands at x = 5 from row 60 on; left attacks +x
+    ball_x_sum = 10 * -10.0 + sum(-10.5 - 0.5 * k for k in range(5)) + 5.0 * (T - 60)
+    assert left.territory_m == pytest.approx(ball_x_sum / T, abs=1e-5)
+    assert right.territory_m == pytest.approx(-left.territory_m)
     assert left.third_pct == pytest.approx({"defensive": 20.0, "middle": 80.0, "attacking": 0})
     assert right.third_pct == pytest.approx({"defensive": 0, "middle": 80.0, "attacking": 20.0})
     assert left.falls == 1 and right.falls == 0 and left.players[0].falls == 1

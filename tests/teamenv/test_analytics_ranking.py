@@ -1,4 +1,5 @@
-"""Rankings by goals / xG / composite with intervals, the separation rule, and a tournament
+"""Rankings by goals / xG / composite / territory with intervals (stratified by opponent),
+head to head, the separation rule, and a tournament
 that stops a pairing once it is separated (a scripted backend: no matches are simulated)."""
 
 from __future__ import annotations
@@ -10,11 +11,15 @@ import pytest
 
 from teamenv.analytics.ranking import (
     MatchMargins,
+    head_to_head,
+    match_margins,
     matches_to_separate,
     rank_teams,
     separated,
     separated_pairings,
+    stratified_bootstrap_interval,
     t_interval,
+    usable,
 )
 from teamenv.errors import ConfigError
 from teamenv.match import MatchResult
@@ -44,6 +49,66 @@ def test_rank_teams_orders_and_bounds():
     assert a.low <= a.mean <= a.high and a.matches == 4
     again = rank_teams(games, "xg", ["a", "b", "c"], n_bootstrap=200, seed=1)
     assert again == ranks  # seeded: same intervals
+
+
+def test_interval_resamples_within_each_opponent():
+    # b beats the weak c by ~10 every time and loses to a by ~1 every time: the schedule fixes
+    # how many of each b plays, so b's interval holds only the small luck within each
+    # pairing. A pooled bootstrap would let a resample hold mostly wins over c and span ~10.
+    rng = np.random.default_rng(3)
+    games = []
+    for _ in range(6):
+        games.append(MatchMargins("a", "b", {"goals": (1.0 + 0.1 * rng.standard_normal(), 0.0)}))
+        games.append(MatchMargins("b", "c", {"goals": (10.0 + 0.1 * rng.standard_normal(), 0.0)}))
+    ranks = {r.team: r for r in rank_teams(games, "goals", n_bootstrap=500, seed=0)}
+    b = ranks["b"]
+    assert b.mean == pytest.approx(4.5, abs=0.1)
+    assert b.high - b.low < 0.3
+    pooled = np.array([m.margin("goals") * (1 if m.a == "b" else -1) for m in games])
+    pooled_means = pooled[np.random.default_rng(0).integers(0, 12, (500, 12))].mean(axis=1)
+    assert np.ptp(np.percentile(pooled_means, [2.5, 97.5])) > 3.0
+    # one group: an ordinary percentile bootstrap of the mean
+    low, high = stratified_bootstrap_interval([np.array([1.0, 2.0, 3.0])], 400,
+                                              np.random.default_rng(0))
+    assert 1.0 <= low < 2.0 < high <= 3.0
+    assert stratified_bootstrap_interval([np.array([5.0])], 100, np.random.default_rng(0)) \
+        == (5.0, 5.0)
+
+
+def test_head_to_head_orients_pairings_and_names_the_leader():
+    games = [MatchMargins("full", "chaser", {"goals": (1, 0)}),
+             MatchMargins("chaser", "full", {"goals": (0, 2)}),
+             MatchMargins("full", "chaser", {"goals": (1, 0)}),
+             MatchMargins("chaser", "full", {"goals": (0, 1)}),
+             MatchMargins("chaser", "static", {"goals": (1, 0)}),
+             MatchMargins("static", "chaser", {"goals": (1, 0)}),
+             MatchMargins("chaser", "static", {"goals": (0, 0)})]
+    pairs = head_to_head(games, "goals")
+    assert [(p.a, p.b, p.matches) for p in pairs] == [("chaser", "full", 4),
+                                                      ("chaser", "static", 3)]
+    cf, cs = pairs
+    assert cf.mean == pytest.approx(-5 / 4) and cf.separated and cf.leader() == "full"
+    assert cs.mean == 0.0 and not cs.separated and cs.leader() is None
+
+
+def test_territory_is_read_from_stored_statistics():
+    @dataclass
+    class Record:
+        id: int
+        left_team: str
+        right_team: str
+        left_official: int
+        right_official: int
+
+    records = [Record(1, "a", "b", 0, 0), Record(2, "b", "a", 1, 0)]
+    stats = {1: {"left": {"xg": 0.1, "territory_m": 4.0}, "right": {"xg": 0.0, "territory_m": -4.0}},
+             2: {"left": {"xg": 0.3}, "right": {"xg": 0.0}}}  # stored before territory existed
+    margins = match_margins(records, stats)
+    assert margins[0].margin("territory") == 8.0
+    assert [m.a for m in usable(margins, "territory")] == ["a"]
+    assert len(usable(margins, "xg")) == 2
+    with pytest.raises(ConfigError, match="no stored match has territory"):
+        usable(margins[1:], "territory")
 
 
 def test_separation_rule():

@@ -97,5 +97,5 @@ def test_tournament_report_with_stored_statistics(tmp_path):
     page = write_report(db, tmp_path / "t.html").read_text()
     checker = check_page(page)
     assert len(checker.images) == 2
-    for metric in ("goals", "xg", "composite"):
+    for metric in ("goals", "xg", "composite", "territory"):
         assert f"Ranked by {metric}" in page
