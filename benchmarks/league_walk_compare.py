@@ -4,7 +4,7 @@ Each trial beams one T1 to a start pose drawn from its seed (left team's half, a
 lets it stand 1 s with the controller's ``stand``, then walks one command for ``--seconds``
 (6 s); achieved velocity = the mean body-frame velocity after the first 1.5 s of walking
 (``locomotion.humanoid.envelope.achieved_velocity``); fall = the project's fall test
-(``observation.is_fallen``: torso tilted past 60 degrees or below 0.4 m).
+(``teamenv.league.falls.is_fallen``: torso tilted past 60 degrees or below 0.4 m).
 
 Modes (each prints a table; the numbers are in docs/league.md):
 

@@ -1,6 +1,7 @@
 """Team brains: formations, role assignment, voting, marking and the built-in teams.
 
-Layering: ``strategy`` may import ``comms``, ``teamenv.field``, ``teamenv.errors`` and the
-public API of ``teamenv`` (observation and action types), nothing else of ours; nothing in
-``teamenv``, ``comms`` or ``locomotion`` may import ``strategy``.
+Layering: ``strategy`` may import ``comms``, ``portable_math`` and the core of ``teamenv`` (its
+plugin API: field, teams, team config, search space, observation and action types), never a
+teamenv application (docs/architecture.md); nothing in ``teamenv``, ``comms`` or
+``locomotion`` may import ``strategy``.
 """

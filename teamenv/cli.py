@@ -14,6 +14,7 @@ from pathlib import Path
 
 from teamenv import __version__
 from teamenv.errors import TeamEnvError, Terminated
+from teamenv.tournament.cli import add_report_command
 from teamenv.viewer.cli import add_parser as add_view_parser
 
 
@@ -120,7 +121,8 @@ def build_parser() -> argparse.ArgumentParser:
     _add_match(sub)
     _add_render(sub)
     _add_teams(sub)
-    __import__("teamenv.analytics.cli", fromlist=["add_parser"]).add_parser(sub)  # stats, report
+    __import__("teamenv.analytics.cli", fromlist=["add_parser"]).add_parser(sub)  # stats
+    add_report_command(sub)  # report: a replay's page or a tournament database's
     add_view_parser(sub)
     __import__("teamenv.league.cli", fromlist=["add_parser"]).add_parser(sub)  # league-match
     try:

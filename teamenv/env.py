@@ -474,7 +474,7 @@ class SoccerParallelEnv(ParallelEnv):
             gymnasium.logger.warn("render() called without a render_mode; set render_mode")
             return None
         if self._renderer is None:
-            from teamenv.render.pygame_renderer import PygameRenderer
+            from teamenv.pygame_renderer import PygameRenderer
 
             self._renderer = PygameRenderer(self.field, self.team_size, self.render_mode)
         return self._renderer.draw(self.sim)

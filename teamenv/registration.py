@@ -1,7 +1,7 @@
 """Gymnasium registrations of the single-agent views (``gymnasium.make("teamenv/...")``).
 
-Entry points are strings, so registering imports nothing but Gymnasium (already imported by
-PettingZoo); it runs on ``import teamenv``.
+Entry points are strings, so registering imports nothing but Gymnasium (not the env, nor
+PettingZoo or pymunk); it runs on ``import teamenv``.
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@ Every field can be given as a team config key (``teamenv match full chaser --lef
 bad values are errors that name the field and the value.
 
 Fields an optimizer may vary declare their range or choices in their metadata
-(``search(Range(...))``, see ``teamenv.optimize.search_space`` and ``teamenv optimize``);
+(``search(Range(...))``, see ``teamenv.search_space`` and ``teamenv optimize``);
 the defaults stay what seeded matches (and the golden hashes) were recorded with.
 """
 
@@ -22,7 +22,7 @@ from strategy.positioning.formation.sized import KINDS
 from strategy.positioning.marking import MarkingParams
 from teamenv.config import build_config
 from teamenv.errors import ConfigError
-from teamenv.optimize.search_space import Choice, Range, search
+from teamenv.search_space import Choice, Range, search
 
 
 @dataclass(frozen=True)

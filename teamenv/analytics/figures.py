@@ -16,7 +16,8 @@ COLOURS = ("#1f77b4", "#d62728")  # left, right
 DPI = 80
 
 
-def _pyplot() -> Any:
+def pyplot() -> Any:
+    """matplotlib.pyplot on the Agg backend (no display needed)."""
     import matplotlib
 
     matplotlib.use("Agg", force=False)
@@ -25,10 +26,11 @@ def _pyplot() -> Any:
     return plt
 
 
-def _png(fig: Any) -> bytes:
+def figure_png(fig: Any) -> bytes:
+    """``fig`` as PNG bytes at ``DPI``; closes the figure."""
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=DPI, bbox_inches="tight")
-    _pyplot().close(fig)
+    pyplot().close(fig)
     return buf.getvalue()
 
 
@@ -53,7 +55,7 @@ def _geometry(replay: Replay) -> tuple[float, float, float]:
 def heatmaps(replay: Replay, events: MatchEvents, stats: MatchStats) -> bytes:
     """Where each side's players and the ball were in play, in the side's attacking frame
     (attacking to the right)."""
-    plt = _pyplot()
+    plt = pyplot()
     hl, hw, hg = _geometry(replay)
     n = replay.team_size
     play_on = replay.play_mode == PLAY_ON
@@ -75,13 +77,13 @@ def heatmaps(replay: Replay, events: MatchEvents, stats: MatchStats) -> bytes:
                    aspect="equal")
     _pitch(axes[2], hl, hw, hg)
     axes[2].set_title("ball (world frame, left side's first-half view)")
-    return _png(fig)
+    return figure_png(fig)
 
 
 def pass_networks(replay: Replay, stats: MatchStats) -> bytes:
     """Completed passes between players (line width: count) at their mean positions in play,
     each side attacking to the right."""
-    plt = _pyplot()
+    plt = pyplot()
     hl, hw, hg = _geometry(replay)
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.2))
     for side, ax in enumerate(axes):
@@ -102,13 +104,13 @@ def pass_networks(replay: Replay, stats: MatchStats) -> bytes:
                     color="white", zorder=4)
         ax.set_title(f"{team.team}: {team.passes_completed}/{team.passes_attempted} "
                      "passes completed")
-    return _png(fig)
+    return figure_png(fig)
 
 
 def shot_map(replay: Replay, stats: MatchStats) -> bytes:
     """Every kick on frame from where it was taken (world frame), size by its xG; filled when
     it scored."""
-    plt = _pyplot()
+    plt = pyplot()
     hl, hw, hg = _geometry(replay)
     fig, ax = plt.subplots(figsize=(8, 4.6))
     _pitch(ax, hl, hw, hg)
@@ -120,13 +122,13 @@ def shot_map(replay: Replay, stats: MatchStats) -> bytes:
                    lw=1.5, alpha=0.8)
     ax.set_title(f"kicks on frame (size: xG; filled: goal) — xG {stats.left.xg:.2f} : "
                  f"{stats.right.xg:.2f}")
-    return _png(fig)
+    return figure_png(fig)
 
 
 def timeline(replay: Replay, events: MatchEvents, stats: MatchStats) -> bytes:
     """Possession over time (which side made the last contact), play mode in play, and with
     extras the role agreement of each side and each agent's own role."""
-    plt = _pyplot()
+    plt = pyplot()
     t = replay.time_s
     agree = role_agreement(replay)
     rows = 2 + (0 if agree is None else 2)
@@ -156,13 +158,13 @@ def timeline(replay: Replay, events: MatchEvents, stats: MatchStats) -> bytes:
             ax.set_ylabel(f"{SIDES[side]} roles\n(black: disagree)", rotation=0, ha="right")
     axes[-1].set_xlabel("game time (s)")
     fig.suptitle("blue: left has the ball, red: right")
-    return _png(fig)
+    return figure_png(fig)
 
 
 def message_use(replay: Replay, stats: MatchStats) -> bytes:
     """Per player: messages sent, drops of its messages and what it heard; per side: bytes
     said per 10 s of game time."""
-    plt = _pyplot()
+    plt = pyplot()
     n = replay.team_size
     fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(13, 3.8))
     x = np.arange(2 * n)
@@ -186,7 +188,7 @@ def message_use(replay: Replay, stats: MatchStats) -> bytes:
     ax1.set_ylabel(f"bytes said per {width:g} s")
     ax1.legend(fontsize=8)
     ax1.set_title("message bytes over time")
-    return _png(fig)
+    return figure_png(fig)
 
 
 def match_figures(replay: Replay, events: MatchEvents, stats: MatchStats

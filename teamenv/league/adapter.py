@@ -33,7 +33,7 @@ behaviour, kept for comparison).
 
 **Getting up:** ``get_up`` (by default ``teamenv.league.getup.GetUpMotion``; any motion with
 ``start(perception)``/``step(perception)``/``done``; None: none) is started when the robot is
-down (``observation.torso_down``) and played to its end before anything else (a beam cancels
+down (``falls.is_fallen``) and played to its end before anything else (a beam cancels
 it); if the robot is still down then, it starts again.
 """
 
@@ -49,6 +49,7 @@ from teamenv.landmarks import MJ_MARKS_LEFT, MJ_MARKS_RIGHT
 from . import effectors
 from .controller import CYCLE_S, LocomotionController, WalkerController
 from .errors import LeagueError
+from .falls import is_fallen
 from .getup import GetUpMotion
 from .kick import BallTracker, KickMotion, approach_command, in_kick_spot
 from .perception import Perception, Polar
@@ -184,8 +185,6 @@ class RequestEncoder:
 
     def _body(self, request: Request, perception: Perception) -> str:
         """This cycle's motor message."""
-        from .observation import is_fallen  # here: observation imports this module
-
         if self._motion is self.kick and self.get_up is not None and is_fallen(perception):
             self._motion = None               # down during a kick: get up instead
         if self._motion is not None:

@@ -34,6 +34,7 @@ from collections.abc import Mapping, Sequence
 from . import effectors
 from .controller import CYCLE_S
 from .errors import LeagueError
+from .falls import torso_down
 from .perception import Perception
 from .t1 import T1_MOTORS, joint_sensor
 
@@ -283,9 +284,7 @@ class GetUpMotion:
 
 
 def is_up(perception: Perception) -> bool:
-    """Standing: not down by the observation's fall test, torso above ``UP_HEIGHT_M``."""
-    from .observation import torso_down  # here: observation imports the adapter, which uses us
-
+    """Standing: not down by the fall test (``falls.torso_down``), torso above ``UP_HEIGHT_M``."""
     q = perception.orientations.get("torso_quat")
     pos = perception.positions.get("torso_pos")
     if q is None or pos is None:

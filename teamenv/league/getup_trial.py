@@ -23,8 +23,8 @@ import numpy as np
 
 from . import effectors
 from .controller import CYCLE_S
+from .falls import is_fallen
 from .getup import END_POSE, GROUPS, GetUpMotion, is_up, lying_on_front
-from .observation import is_fallen
 from .perception import Perception
 from .t1 import T1_MOTORS
 

@@ -20,6 +20,7 @@ import numpy as np
 from . import effectors
 from .adapter import KICK_LATCH_M
 from .controller import CYCLE_S, LocomotionController, WalkerController, torso_pose
+from .falls import is_fallen
 from .kick import (
     LEAGUE_KICK,
     BallTracker,
@@ -28,7 +29,6 @@ from .kick import (
     approach_command,
     in_kick_spot,
 )
-from .observation import is_fallen
 
 #: head pitch (rad, down) while the robot stands before the approach: the ball at the kick spot
 #: is seen (the server applies a message's motor commands in order: this one overrides the
@@ -48,7 +48,7 @@ class KickTrial:
     """kicked: the kick motion ran; travel: ball displacement (m) from where it lay to where
     it came to rest (or ``settle_s`` after the kick); direction: its world heading (rad);
     error: direction - target_yaw (rad, wrapped); upright: not down at the end of the trial
-    (``observation.torso_down``); fell_during: down at any time after the kick began;
+    (``falls.is_fallen``); fell_during: down at any time after the kick began;
     kick_s: the motion's duration (from its start to the end of the walk after the strike); approach_s: walking time before the kick; upright_s: time
     from the kick's start to the first cycle down (the whole watch if never)."""
 

@@ -22,8 +22,8 @@ Where the server gives something else than the env, the nearest equivalent is fi
   believes; 0 on the first cycle and after a beam.
 - ``gyro``: the true heading change of the cycle from ``quat`` (the env: the same, ``mj``
   gyro noise 0); 0 on the first cycle and after a beam.
-- ``body``: fallen = torso tilted more than ``FALL_TILT`` from upright or lower than
-  ``FALL_HEIGHT_M`` (the env: its fall model's state); head pan = the ``hj1`` joint angle.
+- ``body``: fallen = ``falls.is_fallen``: torso tilted more than ``FALL_TILT`` from upright
+  or lower than ``FALL_HEIGHT_M`` (the env: its fall model's state); head pan = the ``hj1`` joint angle.
 - ``play_mode``: the server's mode (``corner_kick_left`` ...) as ours, team-relative; the
   modes we lack (free kicks, offside, penalties) as a kick-in of the team that takes it.
 - ``game``: game time, half 1 (a league match here is one half), own and their score.
@@ -38,7 +38,7 @@ Where the server gives something else than the env, the nearest equivalent is fi
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 import numpy as np
@@ -54,13 +54,9 @@ from teamenv.spaces import vision_dict_observation_space
 from .adapter import observe
 from .controller import torso_pose
 from .errors import LeagueError
+from .falls import is_fallen
 from .perception import Perception, Polar
 
-#: torso tilt (rad from upright) beyond which a robot counts as fallen (our walker leans
-#: up to ~40° while starting and recovers: not a fall)
-FALL_TILT = math.radians(60.0)
-#: torso height (m) under which a robot counts as fallen (it stands at ~0.66 m)
-FALL_HEIGHT_M = 0.4
 #: cycles a said text is remembered to recognise it when heard (the server delivers it in
 #: the second perception after the one it answered; the env in the next)
 SAID_MEMORY_CYCLES = 3
@@ -89,23 +85,6 @@ def play_mode_index(mode: str, side: str) -> int:
 
 def _wrap(a: float) -> float:
     return math.remainder(a, 2 * math.pi)
-
-
-def torso_down(quat: Sequence[float], height: float) -> bool:
-    """Torso (quaternion w, x, y, z; height m) tilted beyond ``FALL_TILT`` or lower than
-    ``FALL_HEIGHT_M``."""
-    _, x, y, _ = quat
-    up_z = 1.0 - 2.0 * (x * x + y * y)  # z of the torso's up axis in the world
-    return up_z < math.cos(FALL_TILT) or height < FALL_HEIGHT_M
-
-
-def is_fallen(p: Perception) -> bool:
-    """``torso_down`` of the perceived torso (False when the perception has no torso pose)."""
-    q = p.orientations.get("torso_quat")
-    pos = p.positions.get("torso_pos")
-    if q is None or pos is None:
-        return False
-    return torso_down(q, pos[2])
 
 
 class VisionObservationBuilder:

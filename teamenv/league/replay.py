@@ -29,7 +29,8 @@ from teamenv.field import field_preset
 from teamenv.replay import event_arrays, write_replay
 
 from .controller import CYCLE_S, quat_yaw
-from .observation import play_mode_index, torso_down
+from .falls import torso_down
+from .observation import play_mode_index
 from .perception import GameState
 
 #: a robot that was down counts as up again only after this many cycles in a row up (a robot

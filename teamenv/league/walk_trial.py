@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .controller import CYCLE_S, LocomotionController, torso_pose
-from .observation import is_fallen
+from .falls import is_fallen
 from .perception import Perception
 
 Command = tuple[float, float, float]

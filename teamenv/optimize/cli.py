@@ -82,11 +82,11 @@ def _run(args: argparse.Namespace) -> int:
 
     from teamenv.match import MatchOptions
     from teamenv.optimize.cmaes_loop import SearchSettings, load_result, optimize
-    from teamenv.optimize.overrides import OVERRIDE_DIR
     from teamenv.optimize.plot import plot_convergence
     from teamenv.optimize.progress import RichReporter
     from teamenv.optimize.team_space import team_search_space
     from teamenv.optimize.tournament_fitness import TournamentFitness
+    from teamenv.tournament.overrides import OVERRIDE_DIR
     from teamenv.tournament.spec import parse_team_spec
 
     console = Console(stderr=True)
@@ -140,7 +140,7 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _export(result: Any, team: str, base_config: dict[str, Any], path: Path) -> None:
-    from teamenv.optimize.overrides import write_team_override
+    from teamenv.tournament.overrides import write_team_override
 
     told = [g for g in result.generations if g.told]
     write_team_override(path, team, {**base_config, **result.recommended}, source={

@@ -29,7 +29,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from teamenv.optimize.checkpoint import CheckpointStore, Generation, OptimizeError
-from teamenv.optimize.search_space import SearchSpace
+from teamenv.search_space import SearchSpace
 
 DEFINITION_FORMAT = 1
 

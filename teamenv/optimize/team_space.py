@@ -12,13 +12,13 @@ from dataclasses import is_dataclass, replace
 from typing import Any
 
 from teamenv.match import MatchOptions
-from teamenv.optimize.search_space import Domain, SearchSpace, build_search_space, parse_bounds
+from teamenv.search_space import Domain, SearchSpace, build_search_space, parse_bounds
 
 
 def team_config(team: str, base_config: Mapping[str, Any], options: MatchOptions) -> Any:
     """The config dataclass instance of ``team`` built with ``base_config`` for ``options``."""
     from teamenv.env import SoccerParallelEnv
-    from teamenv.optimize.search_space import SearchSpaceError
+    from teamenv.search_space import SearchSpaceError
 
     env = SoccerParallelEnv(left=team, left_config=dict(base_config), **options.env_kwargs())
     try:
@@ -27,7 +27,7 @@ def team_config(team: str, base_config: Mapping[str, Any], options: MatchOptions
         env.close()
     if config is None or not is_dataclass(config):
         raise SearchSpaceError(f"team {team!r}: has no dataclass `config` attribute, so it "
-                               "declares no search space (see teamenv.optimize.search_space)")
+                               "declares no search space (see teamenv.search_space)")
     return config
 
 
@@ -46,7 +46,7 @@ def team_search_space(team: str, base_config: Mapping[str, Any], options: MatchO
 def _check_ends(team: str, config: Any, space: SearchSpace) -> None:
     """Each parameter's extreme values (a Range's ends, every option of a Choice) must be
     accepted by the config's own validation, so no candidate fails in the middle of a run."""
-    from teamenv.optimize.search_space import Choice, SearchSpaceError
+    from teamenv.search_space import Choice, SearchSpaceError
 
     for p in space.parameters:
         values = p.domain.options if isinstance(p.domain, Choice) else (p.decode(0.0),

@@ -28,7 +28,7 @@ def render_replay_gif(replay: Replay | str | Path, out_path: str | Path, fps: in
     frame_ms = gif_frame_ms(fps)
     if isinstance(every, bool) or not isinstance(every, int) or every < 1:
         raise ConfigError(f"render: every must be an integer >= 1, got {value_repr(every)}")
-    from teamenv.render.pygame_renderer import PygameRenderer
+    from teamenv.pygame_renderer import PygameRenderer
 
     try:
         import imageio.v2 as imageio

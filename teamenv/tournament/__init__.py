@@ -1,7 +1,8 @@
 """Batch strategy tournaments: schedules, execution backends, SQLite results, ratings, tables.
 
-Imports the rest of teamenv (match runner, teams, replays); must never import ``strategy``
-(teams are entry-point plugins) and imports ray only inside the Ray backend.
+An application (docs/architecture.md): imports teamenv's core, the match runner and the
+analytics, never an application above it (optimize, viewer, league, cli); must never import
+``strategy`` (teams are entry-point plugins) and imports ray only inside the Ray backend.
 """
 
 from __future__ import annotations

@@ -1,4 +1,5 @@
-"""The ``teamenv tournament`` commands: run (and resume), table, matches, list, replay."""
+"""The ``teamenv tournament`` commands (run and resume, table, matches, list, replay) and
+``teamenv report`` (an HTML page of a replay or a tournament database)."""
 
 from __future__ import annotations
 
@@ -9,6 +10,28 @@ from typing import Any
 from teamenv.errors import Terminated
 
 DEFAULT_NAME = "tournament"
+
+
+def add_report_command(subparsers: argparse._SubParsersAction) -> None:
+    """Register ``report REPLAY|DB -o page.html`` on the ``teamenv`` parser."""
+    report = subparsers.add_parser(
+        "report", help="one self-contained HTML page of a match (replay) or a tournament (DB)")
+    report.add_argument("source", type=Path, help="a replay (.npz) or a tournament database")
+    report.add_argument("-o", "--out", type=Path, required=True, help="HTML file to write")
+    report.add_argument("--name", default=None, help="tournament in the database "
+                        "(default: the only one)")
+    report.add_argument("--xg-model", type=Path, default=None,
+                        help="an xG model JSON (default: the shipped one)")
+    report.set_defaults(func=_write_report)
+
+
+def _write_report(args: argparse.Namespace) -> int:
+    from teamenv.analytics.xg import XGModel
+    from teamenv.tournament.report import write_report
+
+    page = write_report(args.source, args.out, name=args.name, model=XGModel.load(args.xg_model))
+    print(f"report: {page}")
+    return 0
 
 
 def add_tournament_commands(subparsers: argparse._SubParsersAction) -> None:

@@ -25,6 +25,7 @@ from typing import Any
 
 from teamenv.errors import ConfigError, TeamLoadError
 from teamenv.tournament.errors import TeamSpecError, TournamentConfigError
+from teamenv.tournament.overrides import load_team_override
 
 _KEY = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _OVERRIDE_START = re.compile(r"[A-Za-z_][A-Za-z0-9_]*=")
@@ -94,10 +95,8 @@ def parse_team_spec(spec: str | TeamSpec) -> TeamSpec:
                             "'name:key=value,key2=value2'")
     config: dict[str, Scalar] = {}
     inline: set[str] = set()
-    if "@" in name:  # name@file: the config of a team override file (teamenv.optimize.overrides)
+    if "@" in name:  # name@file: the config of a team override file (overrides.py)
         name, _, file = name.partition("@")
-        from teamenv.optimize.overrides import load_team_override
-
         try:
             config.update(load_team_override(file, name))
         except ConfigError as exc:

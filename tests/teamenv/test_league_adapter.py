@@ -105,7 +105,7 @@ def test_one_agent_walks_towards_a_point_on_the_real_server():
     pytest.importorskip("rcsssmj")
     pytest.importorskip("mujoco")
     from teamenv.league.controller import WalkerController
-    from teamenv.league.observation import is_fallen
+    from teamenv.league.falls import is_fallen
     from teamenv.league.server import LeagueServer
     from teamenv.league.team_client import TeamClient
 

@@ -269,8 +269,8 @@ def test_a_kick_on_the_real_server():
     from teamenv.league import effectors
     from teamenv.league.adapter import Request, RequestEncoder
     from teamenv.league.controller import WalkerController, torso_pose
+    from teamenv.league.falls import is_fallen
     from teamenv.league.kick_trial import LOOK_DOWN, spot_start
-    from teamenv.league.observation import is_fallen
     from teamenv.league.server import LeagueServer
     from teamenv.league.team_client import TeamClient
 

@@ -21,7 +21,8 @@ from teamenv.landmarks import landmarks
 from teamenv.league.adapter import observe
 from teamenv.league.controller import torso_pose
 from teamenv.league.errors import LeagueError
-from teamenv.league.observation import VisionObservationBuilder, is_fallen, play_mode_index
+from teamenv.league.falls import is_fallen
+from teamenv.league.observation import VisionObservationBuilder, play_mode_index
 from teamenv.league.perception import GameState, Heard, parse_perception
 from teamenv.sim.playmode import PLAY_MODES, PlayMode
 from teamenv.sim.vision import VisionPerception

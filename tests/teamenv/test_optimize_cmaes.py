@@ -24,7 +24,7 @@ from teamenv.optimize.cmaes_loop import (
     load_result,
     optimize,
 )
-from teamenv.optimize.search_space import Choice, Range, SearchSpace, build_search_space, search
+from teamenv.search_space import Choice, Range, SearchSpace, build_search_space, search
 
 ROOT = Path(__file__).resolve().parents[2]
 TARGET = {"speed": 1.6, "weight": 30.0, "count": 4, "shape": "deep"}

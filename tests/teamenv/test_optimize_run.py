@@ -14,9 +14,9 @@ from teamenv.match import MatchOptions
 from teamenv.optimize.checkpoint import CheckpointStore
 from teamenv.optimize.cmaes_loop import QuietReporter, load_result
 from teamenv.optimize.heldout import bootstrap, held_out
-from teamenv.optimize.overrides import write_team_override
 from teamenv.optimize.tournament_fitness import TournamentFitness
 from teamenv.tournament import ResultStore, TeamSpecError, parse_team_spec
+from teamenv.tournament.overrides import write_team_override
 
 TINY = ["--team-size", "3", "--half-time", "5", "--halves", "1", "--backend", "serial",
         "--no-progress"]

@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 from teamenv.match import MatchOptions
-from teamenv.optimize.search_space import (
+from teamenv.optimize.team_space import team_search_space
+from teamenv.search_space import (
     Choice,
     Range,
     SearchSpaceError,
@@ -18,7 +19,6 @@ from teamenv.optimize.search_space import (
     parse_bounds,
     search,
 )
-from teamenv.optimize.team_space import team_search_space
 
 
 @dataclass(frozen=True)

@@ -8,11 +8,11 @@ from html.parser import HTMLParser
 
 import pytest
 
-from teamenv.analytics.report import write_report
 from teamenv.cli import main
 from teamenv.errors import ConfigError
 from teamenv.match import MatchOptions
 from teamenv.tournament import round_robin
+from teamenv.tournament.report import write_report
 from teamenv.tournament.runner import run_tournament
 from teamenv.tournament.store import ResultStore
 from tests.teamenv.analytics_replays import save_replay, story_arrays, story_metadata

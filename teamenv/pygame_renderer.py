@@ -1,4 +1,8 @@
-"""Draws the pitch, players and ball with pygame; returns RGB frames or shows a window."""
+"""Draws the pitch, players and ball with pygame; returns RGB frames or shows a window.
+
+In the core because the env's ``render()`` (PettingZoo's ``render_mode``) draws with it; the
+render application (``teamenv.render``: a replay to GIF/MP4) draws its frames with it too.
+pygame is imported on first use only (the ``render`` extra)."""
 
 from __future__ import annotations
 

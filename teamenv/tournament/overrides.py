@@ -7,8 +7,9 @@
     {"format": "teamenv-team-override", "version": 1, "team": "full",
      "config": {"pressure_m": 2.7, "kick_goal_weight": 31.4}, "source": {...}}
 
-``source`` says where the config came from (free-form, not read). Imports nothing of teamenv
-but its errors: the tournament's spec parser reads these files.
+``source`` says where the config came from (free-form, not read). The tournament's spec parser
+reads these files and ``teamenv optimize`` (above the tournaments) writes them, so they live
+here. Imports nothing of teamenv but its errors.
 """
 
 from __future__ import annotations

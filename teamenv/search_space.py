@@ -2,7 +2,7 @@
 
 A team declares what an optimizer may vary in its config dataclass's field metadata::
 
-    from teamenv.optimize.search_space import Choice, Range, search
+    from teamenv.search_space import Choice, Range, search
 
     @dataclass(frozen=True)
     class MyTeamConfig:
@@ -15,6 +15,10 @@ The optimizer works in the unit cube: each parameter maps to one coordinate in [
 or logarithmic in the value; a choice of n options splits [0, 1] into n equal bins), so one
 CMA-ES step size fits every parameter. Decoded floats are rounded to ``digits`` significant
 digits so a candidate's config (and its tournament label) stays short and exact.
+
+Part of the plugin API in teamenv's core (like ``teamenv.team_config``): a team's config
+module imports it, and ``teamenv optimize`` reads what it declared. It imports numpy and
+teamenv's errors only.
 """
 
 from __future__ import annotations
