@@ -9,7 +9,7 @@ seeds from 5000 (``--first-seed``; the tuning range of ``teamenv.seeds``: the qu
 about the metrics, not a strength claim), sides alternating (full left on even offsets), each
 recorded as a replay in ``--replay-dir`` (a replay already there is reused). For every match
 it computes full's margin over chaser on each ranking metric of
-``teamenv.analytics.ranking`` (goals, xG, composite) and reports, per metric:
+``teamenv.analytics.ranking`` (goals, xG, composite, territory) and reports, per metric:
 
 - *in order*: after how many matches (seed order) the 95 % t interval of the mean margin first
   excludes zero (``ranking.matches_to_separate``, at least 3 matches) — the sequential
@@ -60,9 +60,11 @@ def full_margins(path: str) -> dict[str, Any]:
     s = replay_stats(path)
     full, chaser = (s.left, s.right) if s.left.team == "full" else (s.right, s.left)
     m = MatchMargins("full", "chaser", {"goals": (full.goals, chaser.goals),
-                                        "xg": (full.xg, chaser.xg)})
+                                        "xg": (full.xg, chaser.xg),
+                                        "territory": (full.territory_m, chaser.territory_m)})
     return {"seed": s.seed, "full_side": full.side, "goals": [full.goals, chaser.goals],
             "xg": [round(full.xg, 4), round(chaser.xg, 4)],
+            "territory_m": [round(full.territory_m, 3), round(chaser.territory_m, 3)],
             "shots": [full.shots, chaser.shots],
             "margins": {k: m.margin(k) for k in RANK_METRICS}}
 
