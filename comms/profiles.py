@@ -6,6 +6,7 @@ from dataclasses import dataclass, field, fields, replace
 from typing import Any, Literal
 
 from comms.errors import ChannelError
+from paramkit import Registry
 from paramkit.checks import check_fields, in_range, invalid, non_negative, positive
 
 #: SimSpark: every printable ASCII character 0x21-0x7E except the S-expression parentheses.
@@ -223,7 +224,12 @@ MJ = ChannelProfile(
     direction_quantum_deg=1.0,
 )
 
-PROFILES: dict[str, ChannelProfile] = {SIMSPARK.name: SIMSPARK, MJ.name: MJ}
+#: The channel profiles by name (a ``paramkit.Registry``, as the vision and locomotion profiles):
+#: ``PROFILES.register("mine", replace(SIMSPARK, name="mine", max_chars=10))`` adds one that
+#: ``get_profile``, ``make_channel`` and the env's ``channel=`` then accept.
+PROFILES: Registry[ChannelProfile] = Registry("channel profile", ChannelError)
+PROFILES.register(SIMSPARK.name, SIMSPARK)
+PROFILES.register(MJ.name, MJ)
 
 _OVERRIDABLE = frozenset(f.name for f in fields(ChannelProfile) if f.init) - {"name"}
 
@@ -233,15 +239,7 @@ def get_profile(name: "str | ChannelProfile", **overrides: Any) -> ChannelProfil
 
     Raises ChannelError for an unknown name or an unknown override key.
     """
-    if isinstance(name, ChannelProfile):
-        profile = name
-    else:
-        try:
-            profile = PROFILES[name]
-        except (KeyError, TypeError):
-            raise ChannelError(
-                f"unknown channel profile {name!r}; known: {sorted(PROFILES)}"
-            ) from None
+    profile = name if isinstance(name, ChannelProfile) else PROFILES.get(name)
     if overrides:
         unknown = set(overrides) - _OVERRIDABLE
         if unknown:

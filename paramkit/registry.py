@@ -8,6 +8,7 @@
     VISION_PROFILES.get("mj")    # the value; an unknown name raises the registry's error,
                                  # naming the kind and every registered name
     VISION_PROFILES.names()      # sorted names
+    VISION_PROFILES.unregister("mj")
     "mj" in VISION_PROFILES, VISION_PROFILES["mj"], dict(VISION_PROFILES.items())
 
 A name is registered once; ``replace=True`` overrides it on purpose. A factory runs once, on
@@ -52,6 +53,13 @@ class Registry(Generic[T]):
             self._values[name] = value
         else:
             self._factories[name] = factory
+
+    def unregister(self, name: str) -> None:
+        """Remove ``name`` (an unknown name raises ``error``)."""
+        if name not in self:
+            raise self.error(f"unknown {self.kind} {name!r}; choose one of {self.names()}")
+        self._values.pop(name, None)
+        self._factories.pop(name, None)
 
     def get(self, name: str) -> T:
         """The value registered as ``name``; an unknown name raises ``error`` listing the

@@ -6,6 +6,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, fields, replace
 from typing import Any, TypeVar
 
+from paramkit import Registry
 from paramkit.checks import check_fields, in_range, invalid, non_negative, one_of, positive
 from teamenv.errors import ConfigError
 from teamenv.landmarks import LANDMARK_KINDS
@@ -163,7 +164,11 @@ def _section_name(cls: type) -> str:
     return cls.__name__.removesuffix("Config").lower()
 
 
-#: The league's vision profiles (``observation_mode="vision"``, option ``vision=``).
+#: The vision profiles by name (``observation_mode="vision"``, option ``vision=``): a
+#: ``paramkit.Registry``, as the channel profiles (``comms.PROFILES``) and the locomotion
+#: profiles (``locomotion.PROFILES``) are. ``VISION_PROFILES.register("wide", replace(
+#: VISION_PROFILES["mj"], fov_horizontal_deg=180.0))`` adds one that ``vision="wide"`` takes.
+#: The league's:
 #: ``simspark``: SimSpark's RestrictedVisionPerceptor (an update every 3 cycles, 120° x 120°,
 #: noise sigma 0.0965 % of the distance, 0.1480° azimuth, 0.1225° elevation, calibration error
 #: up to 0.005 m per axis; flags, goal posts and lines; NAO camera height 0.5 m, hand-entered).
@@ -179,24 +184,20 @@ _MJ = PerceptionConfig(
     elevation_sigma_deg=0.0, calibration_error_m=0.0, truncate_decimals=2,
     camera_height_m=1.1, landmark_kind="mj", lines=False, gyro_sigma_rad=0.0,
 )
-VISION_PROFILES: dict[str, PerceptionConfig] = {
-    "simspark": PerceptionConfig(),
-    "mj": _MJ,
-    "mj_noisy": replace(
-        _MJ, distance_sigma_rel=0.01, azimuth_sigma_deg=0.5, elevation_sigma_deg=0.5,
-        occlusion=True, missed_rate=0.01, misclassified_rate=0.05, false_rate=0.001,
-        false_max=5, false_distance_m=(0.5, 15.0),
-    ),
-}
+VISION_PROFILES: Registry[PerceptionConfig] = Registry("vision profile", ConfigError)
+VISION_PROFILES.register("simspark", PerceptionConfig())
+VISION_PROFILES.register("mj", _MJ)
+VISION_PROFILES.register("mj_noisy", replace(
+    _MJ, distance_sigma_rel=0.01, azimuth_sigma_deg=0.5, elevation_sigma_deg=0.5,
+    occlusion=True, missed_rate=0.01, misclassified_rate=0.05, false_rate=0.001,
+    false_max=5, false_distance_m=(0.5, 15.0),
+))
 
 
 def perception_config(vision: str | None,
                       perception: PerceptionConfig | Mapping[str, Any] | None) -> PerceptionConfig:
     """The profile ``vision`` (None: "simspark") with ``perception`` on top: a mapping
     overrides single fields (unknown keys are an error), a PerceptionConfig replaces it."""
-    name = "simspark" if vision is None else vision
-    if not isinstance(name, str) or name not in VISION_PROFILES:
-        raise ConfigError(f"vision: unknown profile {vision!r}; choose one of "
-                          f"{sorted(VISION_PROFILES)}")
-    return build_config(PerceptionConfig, perception, base=VISION_PROFILES[name])
+    base = VISION_PROFILES.get("simspark" if vision is None else vision)
+    return build_config(PerceptionConfig, perception, base=base)
 

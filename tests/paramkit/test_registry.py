@@ -47,3 +47,7 @@ def test_a_name_is_registered_once_unless_replaced():
         reg.register("b", 1, factory=lambda: 1)
     with pytest.raises(Bad, match="non-empty string"):
         reg.register("", 1)
+    reg.unregister("a")
+    assert "a" not in reg
+    with pytest.raises(Bad, match="unknown channel profile 'a'"):
+        reg.unregister("a")
