@@ -9,6 +9,7 @@ import numpy as np
 from comms.errors import DecodeError, EncodeError, SchemaError
 from comms.profiles import ChannelProfile
 from comms.schema import Int, Schema
+from paramkit.checks import check_fields, in_range, positive
 
 PART_BITS = 32  # MiteCom sends 32-bit integers: one bit per cell
 
@@ -39,16 +40,15 @@ class GridSpec:
     per information type.
     """
 
-    length: float = 30.0
-    width: float = 20.0
-    nx: int = 17
-    ny: int = 15
+    length: float = field(default=30.0, metadata=positive())
+    width: float = field(default=20.0, metadata=positive())
+    nx: int = field(default=17, metadata=in_range(1))
+    ny: int = field(default=15, metadata=in_range(1))
     n_cells: int = field(init=False)
     n_parts: int = field(init=False)
 
     def __post_init__(self) -> None:
-        if self.nx < 1 or self.ny < 1 or self.length <= 0 or self.width <= 0:
-            raise SchemaError(f"GridSpec needs positive sizes, got {self}")
+        check_fields(self, SchemaError)
         object.__setattr__(self, "n_cells", self.nx * self.ny)
         object.__setattr__(self, "n_parts", math.ceil(self.nx * self.ny / PART_BITS))
 

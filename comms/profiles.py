@@ -6,6 +6,8 @@ from dataclasses import dataclass, field, fields, replace
 from typing import Any, Literal
 
 from comms.errors import ChannelError
+from paramkit import Registry
+from paramkit.checks import check_fields, in_range, invalid, non_negative, positive
 
 #: SimSpark: every printable ASCII character 0x21-0x7E except the S-expression parentheses.
 SIMSPARK_CHARSET: str = "".join(chr(c) for c in range(0x21, 0x7F) if chr(c) not in "()")
@@ -32,16 +34,12 @@ class HearingCapacity:
     a listener hears at most one teammate and one opponent message every 2 cycles.
     """
 
-    maximum: int = 2
-    increment: int = 1
-    cost: int = 2
+    maximum: int = field(default=2, metadata=non_negative())
+    increment: int = field(default=1, metadata=non_negative())
+    cost: int = field(default=2, metadata=positive())
 
     def __post_init__(self) -> None:
-        if self.cost <= 0 or self.increment < 0 or self.maximum < 0:
-            raise ChannelError(
-                f"HearingCapacity needs cost > 0, increment >= 0, maximum >= 0; got "
-                f"maximum={self.maximum}, increment={self.increment}, cost={self.cost}"
-            )
+        check_fields(self, ChannelError)
 
 
 @dataclass(frozen=True)
@@ -78,40 +76,31 @@ class ChannelProfile:
     """
 
     name: str
-    max_chars: int
+    max_chars: int = field(metadata=non_negative())
     charset: str
-    max_heard: int
-    payload_bits: int
+    max_heard: int = field(metadata=non_negative())
+    payload_bits: int = field(metadata=non_negative())
     base64_payload: bool = False
-    payload_bytes: int | None = None
-    hearing_range_m: float = math.inf
+    payload_bytes: int | None = field(default=None, metadata=non_negative())
+    hearing_range_m: float = field(default=math.inf, metadata=non_negative(infinite=True))
     self_echo: bool = False
     capacity: HearingCapacity | None = None
-    always_heard: int = 0
-    attenuation_db_per_doubling: float = 0.0
-    reference_distance_m: float = 1.0
-    loss_midpoint_m: float = math.inf
-    max_volume: float = 100.0
-    delay_cycles: int = 1
+    always_heard: int = field(default=0, metadata=non_negative())
+    attenuation_db_per_doubling: float = field(default=0.0, metadata=non_negative())
+    reference_distance_m: float = field(default=1.0, metadata=positive())
+    loss_midpoint_m: float = field(default=math.inf, metadata=positive(infinite=True))
+    max_volume: float = field(default=100.0, metadata=positive())
+    delay_cycles: int = field(default=1, metadata=in_range(1))
     arrival_order: Literal["shuffle", "index"] = "shuffle"
-    direction_quantum_deg: float = 0.0
+    direction_quantum_deg: float = field(default=0.0, metadata=non_negative())
     _charset_set: frozenset = field(init=False, repr=False, compare=False)
     _legal_re: Any = field(init=False, repr=False, compare=False)
     _batch_re: Any = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        if self.max_chars < 0 or self.max_heard < 0 or self.delay_cycles < 1:
-            raise ChannelError(
-                f"profile {self.name!r}: need max_chars >= 0, max_heard >= 0, delay_cycles >= 1; "
-                f"got {self.max_chars}, {self.max_heard}, {self.delay_cycles}"
-            )
-        if self.arrival_order not in ("shuffle", "index"):
-            raise ChannelError(
-                f"profile {self.name!r}: arrival_order must be 'shuffle' or 'index', "
-                f"got {self.arrival_order!r}"
-            )
+        check_fields(self, ChannelError)
         if self.base64_payload and not self.payload_bytes:
-            raise ChannelError(f"profile {self.name!r}: base64_payload needs payload_bytes")
+            raise invalid(self, "payload_bytes", "> 0 with base64_payload", ChannelError)
         object.__setattr__(self, "_charset_set", frozenset(self.charset))
         object.__setattr__(
             self, "_legal_re", re.compile("[" + re.escape(self.charset) + "]*").fullmatch
@@ -235,7 +224,12 @@ MJ = ChannelProfile(
     direction_quantum_deg=1.0,
 )
 
-PROFILES: dict[str, ChannelProfile] = {SIMSPARK.name: SIMSPARK, MJ.name: MJ}
+#: The channel profiles by name (a ``paramkit.Registry``, as the vision and locomotion profiles):
+#: ``PROFILES.register("mine", replace(SIMSPARK, name="mine", max_chars=10))`` adds one that
+#: ``get_profile``, ``make_channel`` and the env's ``channel=`` then accept.
+PROFILES: Registry[ChannelProfile] = Registry("channel profile", ChannelError)
+PROFILES.register(SIMSPARK.name, SIMSPARK)
+PROFILES.register(MJ.name, MJ)
 
 _OVERRIDABLE = frozenset(f.name for f in fields(ChannelProfile) if f.init) - {"name"}
 
@@ -245,15 +239,7 @@ def get_profile(name: "str | ChannelProfile", **overrides: Any) -> ChannelProfil
 
     Raises ChannelError for an unknown name or an unknown override key.
     """
-    if isinstance(name, ChannelProfile):
-        profile = name
-    else:
-        try:
-            profile = PROFILES[name]
-        except (KeyError, TypeError):
-            raise ChannelError(
-                f"unknown channel profile {name!r}; known: {sorted(PROFILES)}"
-            ) from None
+    profile = name if isinstance(name, ChannelProfile) else PROFILES.get(name)
     if overrides:
         unknown = set(overrides) - _OVERRIDABLE
         if unknown:

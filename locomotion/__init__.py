@@ -2,7 +2,8 @@
 
 Public API (see docs/CONTRACTS.md, "Locomotion"):
 
-* :func:`load_profile` -- a validated :class:`Profile` by shipped name or path;
+* :func:`load_profile` -- a validated :class:`Profile` by name (shipped, or added to
+  :data:`PROFILES`, a ``paramkit.Registry``) or path;
 * :class:`Bodies` -- vectorised per-cycle walk/kick/fall state of all players;
 * :func:`omni_displacement` -- seed 001 eq. 4 in a form exact as the turn rate goes to 0.
 
@@ -14,12 +15,13 @@ from __future__ import annotations
 
 from .bodies import Bodies, StepResult
 from .errors import LocomotionError, ProfileError, StepInputError
-from .profile import Profile, load_profile, profile_from_dict, shipped_profiles
+from .profile import PROFILES, Profile, load_profile, profile_from_dict, shipped_profiles
 from .walk import apply_envelope, omni_displacement
 
 __all__ = [
     "Bodies",
     "StepResult",
+    "PROFILES",
     "Profile",
     "load_profile",
     "profile_from_dict",

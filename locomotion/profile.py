@@ -12,12 +12,15 @@ from typing import Any
 
 import numpy as np
 
-from .errors import ProfileError
+from paramkit import Registry
+
+from .errors import LocomotionError, ProfileError
 
 __all__ = [
     "FORMAT",
     "FORMAT_VERSION",
     "PARAMETERS",
+    "PROFILES",
     "Profile",
     "load_profile",
     "profile_from_dict",
@@ -234,13 +237,25 @@ class Profile:
         )
 
 
+#: The locomotion profiles by name (a ``paramkit.Registry``, as the vision profiles
+#: ``teamenv.config.VISION_PROFILES`` and the channel profiles ``comms.PROFILES`` are): every
+#: shipped file of ``PROFILE_DIR`` under its stem. A value is a profile file's path (read and
+#: validated by each ``load_profile``, as a file given by path is) or a ``Profile``.
+#: ``PROFILES.register("my_robot", Path("my_robot.json"))`` adds one that ``load_profile`` and
+#: the env's ``locomotion_profile=`` then take by name.
+PROFILES: Registry[Path | Profile] = Registry("locomotion profile", LocomotionError)
+for _file in sorted(PROFILE_DIR.glob("*.json")):
+    PROFILES.register(_file.stem, _file)
+
+
 def shipped_profiles() -> list[str]:
     """Names of the profiles shipped in ``locomotion/profiles/``."""
     return sorted(p.stem for p in PROFILE_DIR.glob("*.json"))
 
 
 def load_profile(name_or_path: str | Path) -> Profile:
-    """Load and validate a profile by shipped name (``"t1_mj"``) or by path to a JSON file.
+    """Load and validate a profile by name (``"t1_mj"``: a shipped one, or one added to
+    ``PROFILES``) or by path to a JSON file.
 
     Raises:
         ProfileError: the file is missing, is not JSON, or any field is missing, unknown,
@@ -249,14 +264,18 @@ def load_profile(name_or_path: str | Path) -> Profile:
     text_name = str(name_or_path)
     path = Path(name_or_path)
     if not (text_name.endswith(".json") or path.exists()):
-        path = PROFILE_DIR / f"{text_name}.json"
-        if not path.exists():
+        if text_name not in PROFILES:
             raise ProfileError(
                 text_name,
                 "name",
                 text_name,
-                f"no such shipped profile (shipped: {', '.join(shipped_profiles())}) and no such file",
+                f"no such shipped profile or registered name (known: "
+                f"{', '.join(PROFILES.names())}) and no such file",
             )
+        registered = PROFILES.get(text_name)
+        if isinstance(registered, Profile):
+            return registered
+        path = Path(registered)
     if not path.is_file():
         raise ProfileError(text_name, "path", str(path), "file does not exist")
     try:

@@ -8,7 +8,6 @@ that agent's ``infos["dropped"]`` and a warning is issued.
 
 from __future__ import annotations
 
-import math
 import numbers
 import warnings
 from collections.abc import Mapping
@@ -16,6 +15,13 @@ from typing import Any
 
 import numpy as np
 
+from teamenv.box_layout import (
+    ACTION_SIZE,
+    KICK_HIGH,
+    KICK_LOW,
+    beam_bounds,
+    decode_box_actions,
+)
 from teamenv.errors import ActionError, MessageError, value_repr
 from teamenv.field import FieldSpec
 from teamenv.sim.simulation import Commands
@@ -26,7 +32,6 @@ _DICT = {dict}
 _STR = {str}
 _SILENCE_OR_STR = frozenset({str, type(None)})
 _REAL_KINDS = frozenset("biuf")  # numpy dtype kinds of real numbers: bool, int, uint, float
-BOX_SIZE = 9
 
 
 class ActionParser:
@@ -37,10 +42,10 @@ class ActionParser:
         self.field = field
         self.walk_low = np.asarray(command_low, dtype=float)
         self.walk_high = np.asarray(command_high, dtype=float)
-        self.kick_low = np.array([0.0, -math.pi])
-        self.kick_high = np.array([1.0, math.pi])
-        self.beam_low = np.array([-field.half_length, -field.half_width, -math.pi])
-        self.beam_high = np.array([0.0, field.half_width, math.pi])
+        self.kick_low = np.array(KICK_LOW)
+        self.kick_high = np.array(KICK_HIGH)
+        self.beam_low, self.beam_high = map(np.array, beam_bounds(field.half_length,
+                                                                 field.half_width))
         # Tolerant bounds of the fast path (NaN and inf fail them too).
         self._walk_lo, self._walk_hi = self.walk_low - 1e-6, self.walk_high + 1e-6
         self._kick_lo, self._kick_hi = self.kick_low - 1e-6, self.kick_high + 1e-6
@@ -142,9 +147,9 @@ class ActionParser:
     # -- flat Box --------------------------------------------------------------------------
     def _fill_box(self, cmd: Commands, rows: list[int], agents: list[str], actions: list[Any],
                   dropped: dict[str, list[str]]) -> None:
-        arr = _real_rows(actions, BOX_SIZE)
+        arr = _real_rows(actions, ACTION_SIZE)
         if arr is None:
-            arr = np.zeros((len(agents), BOX_SIZE))
+            arr = np.zeros((len(agents), ACTION_SIZE))
             for k, (agent, action) in enumerate(zip(agents, actions, strict=True)):
                 arr[k] = self._box_row(agent, action, dropped)
         else:
@@ -162,22 +167,19 @@ class ActionParser:
                               "must be in [-1, 1]; clipped in lenient mode", dropped)
             arr = np.clip(arr, -1.0, 1.0)
         idx = np.asarray(rows)
-        vx = np.where(arr[:, 0] >= 0, arr[:, 0] * self.walk_high[0], -arr[:, 0] * self.walk_low[0])
-        vy = np.where(arr[:, 1] >= 0, arr[:, 1] * self.walk_high[1], -arr[:, 1] * self.walk_low[1])
-        vt = np.where(arr[:, 2] >= 0, arr[:, 2] * self.walk_high[2], -arr[:, 2] * self.walk_low[2])
-        cmd.walk[idx] = np.stack([vx, vy, vt], axis=1)
-        cmd.kick_power[idx] = np.maximum(arr[:, 3], 0.0)
-        cmd.kick_dir[idx] = arr[:, 4] * math.pi
-        cmd.beam_request[idx] = arr[:, 5] > 0.0
-        cmd.beam[idx, 0] = (arr[:, 6] - 1.0) * 0.5 * self.field.half_length
-        cmd.beam[idx, 1] = arr[:, 7] * self.field.half_width
-        cmd.beam[idx, 2] = arr[:, 8] * math.pi
+        decoded = decode_box_actions(arr, self.walk_low, self.walk_high, self.field.half_length,
+                                     self.field.half_width)
+        cmd.walk[idx] = decoded.walk
+        cmd.kick_power[idx] = decoded.kick_power
+        cmd.kick_dir[idx] = decoded.kick_direction
+        cmd.beam_request[idx] = decoded.beam_request
+        cmd.beam[idx] = decoded.beam
 
     def _box_row(self, agent: str, action: Any, dropped: dict[str, list[str]]) -> np.ndarray:
-        row, why = real_numbers(action, BOX_SIZE)
+        row, why = real_numbers(action, ACTION_SIZE)
         if row is None:
             self._problem(agent, "action", action, f"{why} (the flat Box action)", dropped)
-            return np.zeros(BOX_SIZE)
+            return np.zeros(ACTION_SIZE)
         return row
 
     # -- Dict ------------------------------------------------------------------------------

@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass, fields, replace
-from typing import Any, Callable, Mapping, TypeVar
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field, fields, replace
+from typing import Any, TypeVar
 
+from paramkit import Registry
+from paramkit.checks import check_fields, in_range, invalid, non_negative, one_of, positive
 from teamenv.errors import ConfigError
+from teamenv.landmarks import LANDMARK_KINDS
 
 T = TypeVar("T")
 
@@ -15,23 +18,19 @@ T = TypeVar("T")
 class RulesConfig:
     """Referee rules (seconds of game time, metres)."""
 
-    half_time_s: float = 300.0
-    halves: int = 2
-    before_kickoff_s: float = 0.2
-    goal_pause_s: float = 3.0
-    kickoff_timeout_s: float = 15.0
-    set_play_timeout_s: float = 15.0
-    set_play_distance: float = 2.0
+    half_time_s: float = field(default=300.0, metadata=positive())
+    halves: int = field(default=2, metadata=one_of(1, 2))
+    before_kickoff_s: float = field(default=0.2, metadata=non_negative())
+    goal_pause_s: float = field(default=3.0, metadata=positive())
+    kickoff_timeout_s: float = field(default=15.0, metadata=positive())
+    set_play_timeout_s: float = field(default=15.0, metadata=positive())
+    set_play_distance: float = field(default=2.0, metadata=positive())
     change_sides_at_half_time: bool = False
-    beam_noise_xy: float = 0.05
-    beam_noise_rot: float = 0.05
+    beam_noise_xy: float = field(default=0.05, metadata=non_negative())
+    beam_noise_rot: float = field(default=0.05, metadata=non_negative())
 
     def __post_init__(self) -> None:
-        _positive(self, "half_time_s", "goal_pause_s", "kickoff_timeout_s", "set_play_timeout_s",
-                  "set_play_distance")
-        _non_negative(self, "before_kickoff_s", "beam_noise_xy", "beam_noise_rot")
-        if self.halves not in (1, 2):
-            raise ConfigError(f"rules.halves: must be 1 or 2, got {self.halves!r}")
+        check_fields(self, ConfigError)
 
 
 @dataclass(frozen=True)
@@ -42,25 +41,19 @@ class PhysicsConfig:
     so a ball launched at about 5.2 m/s rolls 9 m (the source documents' strong kick).
     """
 
-    cycle_s: float = 0.02
-    ball_radius: float = 0.042
-    ball_mass: float = 0.026
-    ball_linear_drag: float = 0.4
-    ball_rolling_decel: float = 0.3
-    ball_max_speed: float = 12.0
-    ball_elasticity: float = 0.6
-    player_elasticity: float = 0.2
-    max_substep_travel: float = 0.04
-    world_margin: float = 1.5
+    cycle_s: float = field(default=0.02, metadata=positive())
+    ball_radius: float = field(default=0.042, metadata=positive())
+    ball_mass: float = field(default=0.026, metadata=positive())
+    ball_linear_drag: float = field(default=0.4, metadata=non_negative())
+    ball_rolling_decel: float = field(default=0.3, metadata=non_negative())
+    ball_max_speed: float = field(default=12.0, metadata=positive())
+    ball_elasticity: float = field(default=0.6, metadata=in_range(0.0, 1.0))
+    player_elasticity: float = field(default=0.2, metadata=in_range(0.0, 1.0))
+    max_substep_travel: float = field(default=0.04, metadata=positive())
+    world_margin: float = field(default=1.5, metadata=positive())
 
     def __post_init__(self) -> None:
-        _positive(self, "cycle_s", "ball_radius", "ball_mass", "ball_max_speed",
-                  "max_substep_travel", "world_margin")
-        _non_negative(self, "ball_linear_drag", "ball_rolling_decel")
-        for name in ("ball_elasticity", "player_elasticity"):
-            value = getattr(self, name)
-            if not 0.0 <= value <= 1.0:
-                raise ConfigError(f"physics.{name}: must be in [0, 1], got {value!r}")
+        check_fields(self, ConfigError)
 
 
 @dataclass(frozen=True)
@@ -102,66 +95,34 @@ class PerceptionConfig:
         false_distance_m: (low, high) distance range of false detections, metres.
     """
 
-    update_period_cycles: int = 3
-    fov_horizontal_deg: float = 120.0
-    fov_vertical_deg: float = 120.0
-    min_distance_m: float = 0.1
-    distance_sigma_rel: float = 0.000965
-    azimuth_sigma_deg: float = 0.1480
-    elevation_sigma_deg: float = 0.1225
-    calibration_error_m: float = 0.005
-    truncate_decimals: int | None = None
-    camera_height_m: float = 0.5
-    landmark_kind: str = "simspark"
+    update_period_cycles: int = field(default=3, metadata=in_range(1))
+    fov_horizontal_deg: float = field(default=120.0, metadata=in_range(0, 360, low_open=True))
+    fov_vertical_deg: float = field(default=120.0, metadata=in_range(0, 360, low_open=True))
+    min_distance_m: float = field(default=0.1, metadata=non_negative())
+    distance_sigma_rel: float = field(default=0.000965, metadata=non_negative())
+    azimuth_sigma_deg: float = field(default=0.1480, metadata=non_negative())
+    elevation_sigma_deg: float = field(default=0.1225, metadata=non_negative())
+    calibration_error_m: float = field(default=0.005, metadata=non_negative())
+    truncate_decimals: int | None = field(default=None, metadata=in_range(0, 6))
+    camera_height_m: float = field(default=0.5, metadata=positive())
+    landmark_kind: str = field(default="simspark", metadata=one_of(*LANDMARK_KINDS))
     lines: bool = True
     occlusion: bool = False
-    gyro_sigma_rad: float = 0.002
-    missed_rate: float = 0.0
-    misclassified_rate: float = 0.0
-    false_rate: float = 0.0
-    false_max: int = 5
-    false_distance_m: tuple[float, float] = (0.5, 15.0)
+    gyro_sigma_rad: float = field(default=0.002, metadata=non_negative())
+    missed_rate: float = field(default=0.0, metadata=in_range(0.0, 1.0))
+    misclassified_rate: float = field(default=0.0, metadata=in_range(0.0, 1.0))
+    false_rate: float = field(default=0.0, metadata=in_range(0.0, 1.0))
+    false_max: int = field(default=5, metadata=in_range(0, 100))
+    false_distance_m: tuple[float, float] = field(default=(0.5, 15.0), metadata=non_negative())
 
     def __post_init__(self) -> None:
-        period = self.update_period_cycles
-        if isinstance(period, bool) or not isinstance(period, int) or period < 1:
-            raise ConfigError(f"perception.update_period_cycles: must be an int >= 1, got "
-                              f"{period!r}")
-        for name in ("fov_horizontal_deg", "fov_vertical_deg"):
-            value = getattr(self, name)
-            if not (_is_number(value) and 0.0 < value <= 360.0):
-                raise ConfigError(f"perception.{name}: must be in (0, 360], got {value!r}")
-        _positive(self, "camera_height_m")
-        _non_negative(self, "min_distance_m", "distance_sigma_rel", "azimuth_sigma_deg",
-                      "elevation_sigma_deg", "calibration_error_m", "gyro_sigma_rad")
-        dec = self.truncate_decimals
-        if dec is not None and (isinstance(dec, bool) or not isinstance(dec, int) or
-                                not 0 <= dec <= 6):
-            raise ConfigError(f"perception.truncate_decimals: must be None or an int in 0..6, "
-                              f"got {dec!r}")
-        if self.landmark_kind not in ("simspark", "mj"):
-            raise ConfigError(f"perception.landmark_kind: must be one of ['simspark', 'mj'], "
-                              f"got {self.landmark_kind!r}")
-        for name in ("lines", "occlusion"):
-            value = getattr(self, name)
-            if not isinstance(value, bool):
-                raise ConfigError(f"perception.{name}: must be True or False, got {value!r}")
-        for name in ("missed_rate", "misclassified_rate", "false_rate"):
-            value = getattr(self, name)
-            if not (_is_number(value) and 0.0 <= value <= 1.0):
-                raise ConfigError(f"perception.{name}: must be a probability in [0, 1], got "
-                                  f"{value!r}")
-        fmax = self.false_max
-        if isinstance(fmax, bool) or not isinstance(fmax, int) or not 0 <= fmax <= 100:
-            raise ConfigError(f"perception.false_max: must be an int in 0..100, got {fmax!r}")
-        span = self.false_distance_m
-        if isinstance(span, list):
-            span = tuple(span)
-            object.__setattr__(self, "false_distance_m", span)
-        if not (isinstance(span, (tuple, list)) and len(span) == 2
-                and all(_is_number(v) for v in span) and 0.0 <= span[0] <= span[1]):
-            raise ConfigError(f"perception.false_distance_m: must be (low, high) metres with "
-                              f"0 <= low <= high, got {span!r}")
+        if isinstance(self.false_distance_m, list):  # as JSON gives it
+            object.__setattr__(self, "false_distance_m", tuple(self.false_distance_m))
+        check_fields(self, ConfigError)
+        low, high = self.false_distance_m
+        if low > high:
+            raise invalid(self, "false_distance_m", "(low, high) metres with low <= high",
+                          ConfigError)
 
     @property
     def noisy(self) -> bool:
@@ -174,29 +135,6 @@ class PerceptionConfig:
         """True when sightings can be missed, misclassified or made up."""
         return (self.missed_rate > 0 or self.misclassified_rate > 0 or
                 (self.false_rate > 0 and self.false_max > 0))
-
-
-def _is_number(value: Any) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool) and \
-        math.isfinite(value)
-
-
-def _positive(obj: Any, *names: str) -> None:
-    for name in names:
-        value = getattr(obj, name)
-        if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-            raise ConfigError(f"{_section(obj)}.{name}: must be a finite number > 0, got {value!r}")
-
-
-def _non_negative(obj: Any, *names: str) -> None:
-    for name in names:
-        value = getattr(obj, name)
-        if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
-            raise ConfigError(f"{_section(obj)}.{name}: must be a finite number >= 0, got {value!r}")
-
-
-def _section(obj: Any) -> str:
-    return _section_name(type(obj))
 
 
 def build_config(cls: type[T], value: T | Mapping[str, Any] | None, base: T | None = None,
@@ -226,7 +164,11 @@ def _section_name(cls: type) -> str:
     return cls.__name__.removesuffix("Config").lower()
 
 
-#: The league's vision profiles (``observation_mode="vision"``, option ``vision=``).
+#: The vision profiles by name (``observation_mode="vision"``, option ``vision=``): a
+#: ``paramkit.Registry``, as the channel profiles (``comms.PROFILES``) and the locomotion
+#: profiles (``locomotion.PROFILES``) are. ``VISION_PROFILES.register("wide", replace(
+#: VISION_PROFILES["mj"], fov_horizontal_deg=180.0))`` adds one that ``vision="wide"`` takes.
+#: The league's:
 #: ``simspark``: SimSpark's RestrictedVisionPerceptor (an update every 3 cycles, 120° x 120°,
 #: noise sigma 0.0965 % of the distance, 0.1480° azimuth, 0.1225° elevation, calibration error
 #: up to 0.005 m per axis; flags, goal posts and lines; NAO camera height 0.5 m, hand-entered).
@@ -242,24 +184,20 @@ _MJ = PerceptionConfig(
     elevation_sigma_deg=0.0, calibration_error_m=0.0, truncate_decimals=2,
     camera_height_m=1.1, landmark_kind="mj", lines=False, gyro_sigma_rad=0.0,
 )
-VISION_PROFILES: dict[str, PerceptionConfig] = {
-    "simspark": PerceptionConfig(),
-    "mj": _MJ,
-    "mj_noisy": replace(
-        _MJ, distance_sigma_rel=0.01, azimuth_sigma_deg=0.5, elevation_sigma_deg=0.5,
-        occlusion=True, missed_rate=0.01, misclassified_rate=0.05, false_rate=0.001,
-        false_max=5, false_distance_m=(0.5, 15.0),
-    ),
-}
+VISION_PROFILES: Registry[PerceptionConfig] = Registry("vision profile", ConfigError)
+VISION_PROFILES.register("simspark", PerceptionConfig())
+VISION_PROFILES.register("mj", _MJ)
+VISION_PROFILES.register("mj_noisy", replace(
+    _MJ, distance_sigma_rel=0.01, azimuth_sigma_deg=0.5, elevation_sigma_deg=0.5,
+    occlusion=True, missed_rate=0.01, misclassified_rate=0.05, false_rate=0.001,
+    false_max=5, false_distance_m=(0.5, 15.0),
+))
 
 
 def perception_config(vision: str | None,
                       perception: PerceptionConfig | Mapping[str, Any] | None) -> PerceptionConfig:
     """The profile ``vision`` (None: "simspark") with ``perception`` on top: a mapping
     overrides single fields (unknown keys are an error), a PerceptionConfig replaces it."""
-    name = "simspark" if vision is None else vision
-    if not isinstance(name, str) or name not in VISION_PROFILES:
-        raise ConfigError(f"vision: unknown profile {vision!r}; choose one of "
-                          f"{sorted(VISION_PROFILES)}")
-    return build_config(PerceptionConfig, perception, base=VISION_PROFILES[name])
+    base = VISION_PROFILES.get("simspark" if vision is None else vision)
+    return build_config(PerceptionConfig, perception, base=base)
 

@@ -2,8 +2,7 @@
 
 from __future__ import annotations
 
-import re
-from typing import Any
+from paramkit.checks import value_repr as value_repr  # the one short, never-failing repr
 
 
 class TeamEnvError(Exception):
@@ -55,22 +54,3 @@ class Terminated(KeyboardInterrupt):
     """SIGTERM, raised by the ``teamenv`` command in its main thread like Ctrl-C, so a command
     stops the same clean way (a tournament's worker pool, fork server and resource tracker
     shut down; what is stored stays stored)."""
-
-
-_LINE_BREAK = re.compile(r"\n\s*")
-
-
-def value_repr(value: Any, limit: int = 80) -> str:
-    """``repr(value)`` cut to ``limit`` characters, for error messages about the caller's input.
-
-    Never raises: the value is whatever the caller passed, and a message about it must not
-    fail in its turn (``repr`` of an int of more than 4,300 digits raises ValueError; a
-    third-party object's ``__repr__`` may raise anything)."""
-    if isinstance(value, int) and value.bit_length() > 1024:
-        return f"<int of {value.bit_length()} bits>"
-    try:
-        # On one line (a 2-D numpy array's repr breaks rows): a message is one line.
-        text = _LINE_BREAK.sub(" ", repr(value))
-    except Exception:  # any failure of a foreign __repr__: name the type instead
-        return f"<{type(value).__name__} object>"
-    return text if len(text) <= limit else text[:limit - 3] + "..."

@@ -11,12 +11,14 @@ draws are the same as without a scenario.
 
 from __future__ import annotations
 
+import dataclasses  # dataclasses.field: a Scenario has a field named "field"
 import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from paramkit.checks import check_fields, non_negative, positive
 from teamenv.errors import ConfigError
 from teamenv.field import FieldSpec
 from teamenv.sim.playmode import PlayMode
@@ -91,19 +93,20 @@ class Scenario:
     name: str
     description: str
     field: str | None
-    team_sizes: tuple[int, int] | None
+    team_sizes: tuple[int, int] | None = dataclasses.field(metadata=non_negative())
     left: tuple[Spot, ...] | None
     right: tuple[Spot, ...] | None
     ball: Spot | None
-    ball_with: int | None
+    ball_with: int | None = dataclasses.field(metadata=non_negative())
     play_mode: str
     end_on: frozenset[str]
-    max_duration_s: float | None
-    player_jitter_m: float = 0.25
-    heading_jitter_rad: float = 0.1
-    ball_jitter_m: float = 0.0
+    max_duration_s: float | None = dataclasses.field(metadata=positive())
+    player_jitter_m: float = dataclasses.field(default=0.25, metadata=non_negative())
+    heading_jitter_rad: float = dataclasses.field(default=0.1, metadata=non_negative())
+    ball_jitter_m: float = dataclasses.field(default=0.0, metadata=non_negative())
 
     def __post_init__(self) -> None:
+        check_fields(self, ConfigError)
         unknown = sorted(set(self.end_on) - set(END_CONDITIONS))
         if unknown:
             raise ConfigError(f"scenario {self.name!r}: end_on: unknown condition(s) {unknown}; "

@@ -25,11 +25,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass, fields, is_dataclass
+from dataclasses import dataclass, field, fields, is_dataclass
 from typing import Any
 
 import numpy as np
 
+from paramkit.checks import check_fields, in_range, invalid, one_of
 from teamenv.errors import ConfigError
 
 SEARCH_KEY = "search"  # the dataclass field-metadata key of a declared domain
@@ -48,31 +49,19 @@ class Range:
 
     low: float
     high: float
-    scale: str = "linear"
+    scale: str = field(default="linear", metadata=one_of(*SCALES))
     integer: bool = False
-    digits: int = 4
+    digits: int = field(default=4, metadata=in_range(1, 15))
 
     def __post_init__(self) -> None:
-        for name in ("low", "high"):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, float)) or \
-                    not math.isfinite(value):
-                raise SearchSpaceError(f"Range: {name} must be a finite number, got {value!r}")
+        check_fields(self, SearchSpaceError)
         if not self.low < self.high:
-            raise SearchSpaceError(f"Range: low must be < high, got low={self.low!r}, "
-                                   f"high={self.high!r}")
-        if self.scale not in SCALES:
-            raise SearchSpaceError(f"Range: scale must be one of {list(SCALES)}, got "
-                                   f"{self.scale!r}")
+            raise invalid(self, "low", f"< high ({self.high!r})", SearchSpaceError)
         if self.scale == "log" and self.low <= 0:
-            raise SearchSpaceError(f"Range: a log scale needs low > 0, got low={self.low!r}")
-        if not isinstance(self.integer, bool):
-            raise SearchSpaceError(f"Range: integer must be True or False, got {self.integer!r}")
+            raise invalid(self, "low", "> 0 on a log scale", SearchSpaceError)
         if self.integer and math.floor(self.high) < math.ceil(self.low):
-            raise SearchSpaceError(f"Range: no integer in [{self.low!r}, {self.high!r}]")
-        if isinstance(self.digits, bool) or not isinstance(self.digits, int) or \
-                not 1 <= self.digits <= 15:
-            raise SearchSpaceError(f"Range: digits must be an int in 1..15, got {self.digits!r}")
+            raise invalid(self, "integer", f"False: there is no integer in [{self.low!r}, "
+                          f"{self.high!r}]", SearchSpaceError)
 
     def to_json(self) -> dict[str, Any]:
         return {"kind": "range", "low": self.low, "high": self.high, "scale": self.scale,

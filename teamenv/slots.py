@@ -5,35 +5,35 @@ vision mode), ``action_slot_names()[k]`` entry ``k`` of the Box action, e.g. ``"
 ``"ball.rel_x"``, ``"teammate_2.rel_y"``, ``"landmark_flag_own_left.distance"``,
 ``"play_mode.PlayOn"``, ``"heard_0.direction"``. A name is ``part.component`` where ``part`` is
 the Dict form's key (one row of it for tables: players by uniform number, landmarks by name,
-lines and heard messages by index) and ``component`` that row's column.
+lines and heard messages by index) and ``component`` that row's column: the columns and the
+order of the parts are ``teamenv.box_layout``'s (tests/teamenv/test_box_slots.py checks each
+name against the value found at its place).
 """
 
 from __future__ import annotations
 
 from typing import Any
 
+from teamenv.box_layout import (
+    ACTION_COLUMNS,
+    BALL_COLUMNS,
+    BODY_COLUMNS,
+    COUNTS_COLUMNS,
+    GAME_COLUMNS,
+    GYRO_COLUMNS,
+    HEARD_COLUMNS,
+    LINE_COLUMNS,
+    ODOMETRY_COLUMNS,
+    PLAY_MODE_COLUMNS,
+    PLAYER_COLUMNS,
+    SELF_COLUMNS,
+    SIGHTING_COLUMNS,
+    VISION_COLUMNS,
+    StateLayout,
+    VisionLayout,
+)
 from teamenv.landmarks import landmarks
-from teamenv.sim.perception import flat_observation_size
-from teamenv.sim.playmode import PlayMode
-from teamenv.sim.vision import VisionLayout
 
-# Columns of each part, as the perception code writes them (tests/teamenv/test_box_slots.py
-# checks each against the values).
-ACTION_COLUMNS = ("walk.vx", "walk.vy", "walk.vturn", "kick.power", "kick.direction",
-                  "beam_request", "beam.x", "beam.y", "beam.rot")
-SELF_COLUMNS = ("x", "y", "heading", "vx", "vy", "omega", "fallen")
-BALL_COLUMNS = ("rel_x", "rel_y", "rel_vx", "rel_vy")
-PLAYER_COLUMNS = ("rel_x", "rel_y", "rel_heading", "fallen", "present")
-GAME_COLUMNS = ("time_s", "half", "own_score", "opponent_score")
-HEARD_COLUMNS = ("present", "from_self", "from_teammate", "direction")
-SIGHTING_COLUMNS = ("present", "distance", "azimuth", "elevation")
-LINE_COLUMNS = ("present", "distance_1", "azimuth_1", "elevation_1", "distance_2", "azimuth_2",
-                "elevation_2")
-VISION_COLUMNS = ("fresh", "cycles_since_update")
-COUNTS_COLUMNS = ("landmarks", "players", "lines", "ball")
-ODOMETRY_COLUMNS = ("dx", "dy", "dpsi")
-GYRO_COLUMNS = ("dpsi",)
-BODY_COLUMNS = ("fallen", "head_pan")
 
 def _rows(prefix: str, labels: Any, columns: tuple[str, ...]) -> list[str]:
     return [f"{prefix}{label}.{column}" for label in labels for column in columns]
@@ -47,7 +47,7 @@ def _players(team_size: int, columns: tuple[str, ...]) -> list[str]:
 
 def _common_tail(heard_slots: int) -> list[str]:
     """Play-mode one-hot (team-relative: ``_Left`` is the own team), game, heard slots."""
-    return ([f"play_mode.{mode.name}" for mode in PlayMode]
+    return ([f"play_mode.{mode}" for mode in PLAY_MODE_COLUMNS]
             + [f"game.{column}" for column in GAME_COLUMNS]
             + _rows("heard_", range(heard_slots), HEARD_COLUMNS))
 
@@ -63,7 +63,7 @@ def state_slot_names(team_size: int, heard_slots: int) -> tuple[str, ...]:
     names = ([f"self.{column}" for column in SELF_COLUMNS]
              + [f"ball.{column}" for column in BALL_COLUMNS]
              + _players(team_size, PLAYER_COLUMNS) + _common_tail(heard_slots))
-    assert len(names) == flat_observation_size(team_size, heard_slots)
+    assert len(names) == StateLayout(team_size, heard_slots).size
     return tuple(names)
 
 
@@ -83,7 +83,7 @@ def vision_slot_names(layout: VisionLayout, landmark_names: tuple[str, ...]) -> 
         "odometry": [f"odometry.{column}" for column in ODOMETRY_COLUMNS],
         "gyro": [f"gyro.{column}" for column in GYRO_COLUMNS],
         "body": [f"body.{column}" for column in BODY_COLUMNS],
-        "play_mode": [f"play_mode.{mode.name}" for mode in PlayMode],
+        "play_mode": [f"play_mode.{mode}" for mode in PLAY_MODE_COLUMNS],
         "game": [f"game.{column}" for column in GAME_COLUMNS],
         "heard": _rows("heard_", range(layout.heard_slots), HEARD_COLUMNS),
     }

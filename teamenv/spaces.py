@@ -11,12 +11,17 @@ from typing import Any
 import numpy as np
 from gymnasium import spaces
 
-from teamenv.actions import BOX_SIZE
-from teamenv.field import FieldSpec
-from teamenv.sim.perception import (
-    BALL_DIM, GAME_DIM, HEARD_DIM, N_PLAY_MODES, PLAYER_DIM, SELF_DIM, flat_observation_size,
+from teamenv.box_layout import (
+    ACTION_SIZE,
+    KICK_HIGH,
+    KICK_LOW,
+    N_PLAY_MODES,
+    ObservationLayout,
+    StateLayout,
+    VisionLayout,
+    beam_bounds,
 )
-from teamenv.sim.vision import VisionLayout
+from teamenv.field import FieldSpec
 
 
 class Base64Text(spaces.Text):
@@ -57,48 +62,46 @@ def _box(shape: tuple[int, ...], low: float = -np.inf, high: float = np.inf) -> 
 def dict_action_space(field: FieldSpec, command_low: np.ndarray, command_high: np.ndarray,
                       channel_profile: Any) -> spaces.Dict:
     """walk (vx, vy, vturn), kick (power, direction), beam (x, y, rot), beam_request, say."""
+    beam_low, beam_high = beam_bounds(field.half_length, field.half_width)
     return spaces.Dict({
         "walk": spaces.Box(np.asarray(command_low, np.float32), np.asarray(command_high, np.float32),
                            dtype=np.float32),
-        "kick": spaces.Box(np.array([0.0, -math.pi], np.float32),
-                           np.array([1.0, math.pi], np.float32), dtype=np.float32),
-        "beam": spaces.Box(np.array([-field.half_length, -field.half_width, -math.pi], np.float32),
-                           np.array([0.0, field.half_width, math.pi], np.float32), dtype=np.float32),
+        "kick": spaces.Box(np.array(KICK_LOW, np.float32), np.array(KICK_HIGH, np.float32),
+                           dtype=np.float32),
+        "beam": spaces.Box(np.array(beam_low, np.float32), np.array(beam_high, np.float32),
+                           dtype=np.float32),
         "beam_request": spaces.Discrete(2),
         "say": say_space(channel_profile),
     })
 
 
 def box_action_space() -> spaces.Box:
-    """Flat action in [-1, 1]^9 (see the env docstring for the layout)."""
-    return spaces.Box(-1.0, 1.0, shape=(BOX_SIZE,), dtype=np.float32)
+    """Flat action in [-1, 1]^9 (``teamenv.box_layout.ACTION_COLUMNS``)."""
+    return spaces.Box(-1.0, 1.0, shape=(ACTION_SIZE,), dtype=np.float32)
 
 
-def dict_observation_space(team_size: int, heard_slots: int, channel_profile: Any) -> spaces.Dict:
-    text = say_space(channel_profile)
-    return spaces.Dict({
-        "self": _box((SELF_DIM,)),
-        "ball": _box((BALL_DIM,)),
-        "teammates": _box((team_size, PLAYER_DIM)),
-        "opponents": _box((team_size, PLAYER_DIM)),
-        "play_mode": spaces.Discrete(N_PLAY_MODES),
-        "game": _box((GAME_DIM,)),
-        "heard_text": spaces.Tuple([text] * heard_slots),
-        "heard": _box((heard_slots, HEARD_DIM)),
-    })
-
-
-def box_observation_space(team_size: int, heard_slots: int) -> spaces.Box:
-    return _box((flat_observation_size(team_size, heard_slots),))
-
-
-def vision_dict_observation_space(layout: VisionLayout, channel_profile: Any) -> spaces.Dict:
-    """The Dict form of a ``vision`` observation (see ``teamenv.sim.vision.VisionLayout``)."""
+def _layout_dict_space(layout: ObservationLayout, channel_profile: Any) -> spaces.Dict:
+    """The Dict form of ``layout``'s observation: its parts (``play_mode`` an int) and the
+    heard texts."""
     parts: dict[str, spaces.Space] = {}
     for key, shape in layout.parts:
         parts[key] = spaces.Discrete(N_PLAY_MODES) if key == "play_mode" else _box(shape)
     parts["heard_text"] = spaces.Tuple([say_space(channel_profile)] * layout.heard_slots)
     return spaces.Dict(parts)
+
+
+def dict_observation_space(team_size: int, heard_slots: int, channel_profile: Any) -> spaces.Dict:
+    """The Dict form of a ``state`` observation (``teamenv.box_layout.StateLayout``)."""
+    return _layout_dict_space(StateLayout(team_size, heard_slots), channel_profile)
+
+
+def box_observation_space(team_size: int, heard_slots: int) -> spaces.Box:
+    return _box((StateLayout(team_size, heard_slots).size,))
+
+
+def vision_dict_observation_space(layout: VisionLayout, channel_profile: Any) -> spaces.Dict:
+    """The Dict form of a ``vision`` observation (``teamenv.box_layout.VisionLayout``)."""
+    return _layout_dict_space(layout, channel_profile)
 
 
 def vision_box_observation_space(layout: VisionLayout) -> spaces.Box:

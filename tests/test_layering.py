@@ -1,8 +1,8 @@
 """The import rules; docs/architecture.md draws them and says why.
 
-Between packages: strategy -> teamenv -> {locomotion, comms} -> portable_math; teams are
-plugins. Inside teamenv: a core that imports no application, and applications above it that
-import each other one way (``APPLICATION_TIERS``). Every rule reads every import of a file,
+Between packages: strategy -> teamenv -> {locomotion, comms} -> {portable_math, paramkit};
+teams are plugins. Inside teamenv: a core that imports no application, and applications above
+it that import each other one way (``APPLICATION_TIERS``). Every rule reads every import of a file,
 function-level and relative ones included, so a late import cannot hide a back edge.
 """
 
@@ -65,7 +65,8 @@ def top(name: str) -> str:
 
 @pytest.mark.parametrize("leaf", ["comms", "locomotion"])
 def test_leaves_import_nothing_of_ours(leaf):
-    # ... but the portable float math below every package (same bits on every CPU)
+    # ... but the two packages below every package: the portable float math (same bits on
+    # every CPU) and paramkit (registries, parameter checks)
     ours = {"comms", "locomotion", "teamenv", "strategy"} - {leaf}
     for path, names in imports_of(leaf).items():
         assert not {top(n) for n in names} & ours, path
@@ -74,6 +75,11 @@ def test_leaves_import_nothing_of_ours(leaf):
 def test_portable_math_imports_only_numpy():
     for path, names in imports_of("portable_math").items():
         assert {top(n) for n in names} - set(sys.stdlib_module_names) <= {"numpy"}, path
+
+
+def test_paramkit_imports_only_the_standard_library():
+    for path, names in imports_of("paramkit").items():
+        assert {top(n) for n in names} - set(sys.stdlib_module_names) <= {"paramkit"}, path
 
 
 def test_teamenv_never_imports_strategy():

@@ -20,11 +20,12 @@ spot when the direction is far behind it (a real walk cannot go fast sideways or
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from paramkit.checks import check_fields, in_range, non_negative, positive
 from strategy.geometry import to_body, wrap_angle
 from teamenv.errors import ConfigError
 
@@ -49,31 +50,20 @@ class NavigationParams:
         search_turn: turning rate while searching for the ball (``vision`` mode), rad/s.
     """
 
-    k_attract: float = 1.0
-    k_repulse: float = -0.35
-    influence_m: float = 1.6
-    max_speed: float = 1.2
-    slow_down_m: float = 0.8
-    arrive_m: float = 0.08
-    turn_gain: float = 2.0
-    turn_in_place_rad: float = 1.2
-    omni_m: float = 0.4
-    min_speed: float = 0.35
-    search_turn: float = 0.9
+    k_attract: float = field(default=1.0, metadata=positive())
+    k_repulse: float = field(default=-0.35, metadata=in_range(high=0.0, high_open=True))
+    influence_m: float = field(default=1.6, metadata=non_negative())
+    max_speed: float = field(default=1.2, metadata=non_negative())
+    slow_down_m: float = field(default=0.8, metadata=non_negative())
+    arrive_m: float = field(default=0.08, metadata=non_negative())
+    turn_gain: float = field(default=2.0, metadata=non_negative())
+    turn_in_place_rad: float = field(default=1.2, metadata=non_negative())
+    omni_m: float = field(default=0.4, metadata=non_negative())
+    min_speed: float = field(default=0.35, metadata=non_negative())
+    search_turn: float = field(default=0.9, metadata=non_negative())
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.k_attract) and self.k_attract > 0):
-            raise ConfigError(f"NavigationParams.k_attract: must be > 0 (eq. 7), "
-                              f"got {self.k_attract!r}")
-        if not (math.isfinite(self.k_repulse) and self.k_repulse < 0):
-            raise ConfigError(f"NavigationParams.k_repulse: must be < 0 (eq. 6), "
-                              f"got {self.k_repulse!r}")
-        for name in ("influence_m", "max_speed", "slow_down_m", "arrive_m", "turn_gain",
-                     "turn_in_place_rad", "omni_m", "min_speed", "search_turn"):
-            value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
-                raise ConfigError(f"NavigationParams.{name}: must be a finite number >= 0, "
-                                  f"got {value!r}")
+        check_fields(self, ConfigError)
 
 
 def field_vector(position: ArrayLike, target: ArrayLike, obstacles: ArrayLike,

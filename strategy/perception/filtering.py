@@ -57,7 +57,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Any
 
@@ -67,6 +67,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
 import portable_math as pm
+from paramkit.checks import check_fields, in_range, positive
 from teamenv.config import build_config
 from teamenv.errors import ConfigError, TeamEnvError
 
@@ -121,38 +122,21 @@ class FilterParams:
     """
 
     eps_m: float = 0.5
-    min_samples: int = 3
+    min_samples: int = field(default=3, metadata=in_range(1))
     max_age_s: float = 0.6
-    max_len: int = 32
-    recency_half_life_s: float = 0.3
+    max_len: int = field(default=32, metadata=in_range(1))
+    recency_half_life_s: float = field(default=0.3, metadata=positive(infinite=True))
     min_velocity_span_s: float = 0.1
     own_trust_s: float = 0.3
     still_sigmas: float = 2.5
     heard_eps_m: float = 1.0
     heard_max_age_s: float = 2.0
     confidence_half_life_s: float = 1.0
-    heard_confidence: float = 0.7
-    forget_after_s: float = 10.0
+    heard_confidence: float = field(default=0.7, metadata=in_range(0.0, 1.0, low_open=True))
+    forget_after_s: float = field(default=10.0, metadata=positive(infinite=True))
 
     def __post_init__(self) -> None:
-        for f in fields(self):
-            value = getattr(self, f.name)
-            if f.name in ("min_samples", "max_len"):
-                if isinstance(value, bool) or not isinstance(value, (int, np.integer)) \
-                        or value < 1:
-                    raise FilterParamsError(f"filter params: {f.name} must be an integer >= 1, "
-                                            f"got {value!r}")
-                continue
-            infinite_ok = f.name in ("recency_half_life_s", "forget_after_s")
-            if isinstance(value, bool) or not isinstance(value, (int, float, np.floating)) \
-                    or math.isnan(value) or (math.isinf(value) and not infinite_ok) \
-                    or value <= 0:
-                limit = "> 0 (math.inf allowed)" if infinite_ok else "finite and > 0"
-                raise FilterParamsError(f"filter params: {f.name} must be a number {limit}, "
-                                        f"got {value!r}")
-        if self.heard_confidence > 1:
-            raise FilterParamsError(f"filter params: heard_confidence must be in (0, 1], got "
-                                    f"{self.heard_confidence!r}")
+        check_fields(self, FilterParamsError, default=positive())  # a number: > 0 unless declared
 
     @classmethod
     def from_overrides(cls, overrides: Mapping[str, Any]) -> FilterParams:

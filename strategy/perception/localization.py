@@ -80,7 +80,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, field, fields, replace
 from functools import lru_cache
 from typing import Any, NamedTuple
 
@@ -88,13 +88,14 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 import portable_math as pm
+from paramkit.checks import check_fields, in_range, invalid, non_negative, one_of, positive
 from strategy.perception.two_posts import (
     on_field,
     two_landmark_candidates,
     two_post_candidates,
 )
 from teamenv.config import build_config
-from teamenv.errors import TeamEnvError
+from teamenv.errors import ConfigError, TeamEnvError
 from teamenv.field import FieldSpec, field_preset
 from teamenv.landmarks import LANDMARK_KINDS, field_lines, landmarks
 
@@ -103,6 +104,11 @@ DISTANCE_MODELS = ("ground", "3d")
 
 class LocalizationError(TeamEnvError, ValueError):
     """A localization parameter or input is not valid; the message names field and value."""
+
+
+class LocalizationParamsError(LocalizationError, ConfigError):
+    """A ``LocalizationParams`` value is not valid: a ``LocalizationError`` and, as every bad
+    parameter, a ``ConfigError``."""
 
 
 def _number(value: Any) -> bool:
@@ -142,94 +148,57 @@ class LocalizationParams:
     detection errors.
     """
 
-    n_particles: int = 50
-    odometry_scale: tuple[float, float, float] = (1.0 / 1.1, 1.0 / 1.1, 1.0 / 1.05)
+    n_particles: int = field(default=50, metadata=in_range(1))
+    odometry_scale: tuple[float, float, float] = field(
+        default=(1.0 / 1.1, 1.0 / 1.1, 1.0 / 1.05), metadata=positive())
     use_gyro: bool = True
-    motion_noise_rel: tuple[float, float, float] = (0.1, 0.1, 0.1)
-    motion_noise_abs: tuple[float, float, float] = (0.004, 0.004, 0.004)
-    gyro_noise_rad: float = 0.002
-    distance_model: str = "ground"
-    sigma_distance_rel: float = 0.003
-    sigma_distance_m: float = 0.06
-    sigma_bearing_deg: float = 1.5
+    motion_noise_rel: tuple[float, float, float] = field(default=(0.1, 0.1, 0.1),
+                                                         metadata=non_negative())
+    motion_noise_abs: tuple[float, float, float] = field(default=(0.004, 0.004, 0.004),
+                                                         metadata=non_negative())
+    gyro_noise_rad: float = field(default=0.002, metadata=positive())
+    distance_model: str = field(default="ground", metadata=one_of(*DISTANCE_MODELS))
+    sigma_distance_rel: float = field(default=0.003, metadata=non_negative())
+    sigma_distance_m: float = field(default=0.06, metadata=positive())
+    sigma_bearing_deg: float = field(default=1.5, metadata=positive())
     use_lines: bool = True
-    line_weight: float = 1.0
-    line_points: int = 8
-    sigma_line_m: float = 0.06
-    sigma_line_rel: float = 0.01
-    line_cap_m: float = 1.0
-    line_grid_m: float = 0.05
-    resample_ess: float = 0.5
-    alpha_slow: float = 0.05
-    alpha_fast: float = 0.5
-    lost_quality: float = 0.05
-    lost_share: float = 0.5
-    max_reset_share: float = 0.5
-    min_reset_share: float = 0.1
-    reset_sigma_distance_rel: float = 0.002
-    reset_sigma_bearing_deg: float = 0.5
-    reset_sigma_heading_deg: float = 5.0
-    field_margin_m: float = 1.0
-    beam_sigma_m: float = 0.1
-    beam_sigma_deg: float = 5.0
-    landmark_outlier_cap: float = math.inf
+    line_weight: float = field(default=1.0, metadata=positive())
+    line_points: int = field(default=8, metadata=non_negative())
+    sigma_line_m: float = field(default=0.06, metadata=positive())
+    sigma_line_rel: float = field(default=0.01, metadata=non_negative())
+    line_cap_m: float = field(default=1.0, metadata=positive())
+    line_grid_m: float = field(default=0.05, metadata=positive())
+    resample_ess: float = field(default=0.5, metadata=in_range(0.0, 1.0, low_open=True))
+    alpha_slow: float = field(default=0.05, metadata=in_range(0.0, 1.0, low_open=True))
+    alpha_fast: float = field(default=0.5, metadata=in_range(0.0, 1.0, low_open=True))
+    lost_quality: float = field(default=0.05, metadata=in_range(0.0, 1.0, high_open=True))
+    # 0: no sensor resetting
+    lost_share: float = field(default=0.5, metadata=in_range(0.0, 1.0))
+    max_reset_share: float = field(default=0.5, metadata=in_range(0.0, 1.0))
+    min_reset_share: float = field(default=0.1, metadata=in_range(0.0, 1.0))
+    reset_sigma_distance_rel: float = field(default=0.002, metadata=non_negative())
+    reset_sigma_bearing_deg: float = field(default=0.5, metadata=non_negative())
+    reset_sigma_heading_deg: float = field(default=5.0, metadata=positive())
+    field_margin_m: float = field(default=1.0, metadata=non_negative())
+    beam_sigma_m: float = field(default=0.1, metadata=positive())
+    beam_sigma_deg: float = field(default=5.0, metadata=positive())
+    landmark_outlier_cap: float = field(default=math.inf, metadata=positive(infinite=True))
 
     def __post_init__(self) -> None:
-        def bad(name: str, rule: str) -> LocalizationError:
-            return LocalizationError(f"LocalizationParams.{name}: must be {rule}, got "
-                                     f"{getattr(self, name)!r}")
-
-        for name, limit in (("n_particles", 1), ("line_points", 0)):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) \
-                    or value < limit:
-                raise bad(name, f"an int >= {limit}")
-        for name in ("use_gyro", "use_lines"):
-            if not isinstance(getattr(self, name), bool):
-                raise bad(name, "a bool")
-        if self.distance_model not in DISTANCE_MODELS:
-            raise bad("distance_model", f"one of {list(DISTANCE_MODELS)}")
-        for name in ("odometry_scale", "motion_noise_rel", "motion_noise_abs"):
-            value = getattr(self, name)
-            if not isinstance(value, (tuple, list)) or len(value) != 3 or \
-                    not all(_number(v) and v >= 0 for v in value):
-                raise bad(name, "3 finite numbers >= 0")
-        if not all(v > 0 for v in self.odometry_scale):
-            raise bad("odometry_scale", "3 finite numbers > 0")
-        positive = ("gyro_noise_rad", "sigma_distance_m", "sigma_bearing_deg", "line_weight", "sigma_line_m",
-                    "line_cap_m", "line_grid_m", "beam_sigma_m", "beam_sigma_deg",
-                    "reset_sigma_heading_deg")
-        non_negative = ("sigma_distance_rel", "sigma_line_rel", "reset_sigma_distance_rel",
-                        "reset_sigma_bearing_deg", "field_margin_m")
-        cap = self.landmark_outlier_cap
-        if isinstance(cap, bool) or not isinstance(cap, (int, float)) or math.isnan(cap) \
-                or cap <= 0:
-            raise bad("landmark_outlier_cap", "a number > 0 (inf: no cap)")
-        unit = ("resample_ess", "alpha_slow", "alpha_fast")
-        for name in positive:
-            if not (_number(getattr(self, name)) and getattr(self, name) > 0):
-                raise bad(name, "a finite number > 0")
-        for name in non_negative:
-            if not (_number(getattr(self, name)) and getattr(self, name) >= 0):
-                raise bad(name, "a finite number >= 0")
-        for name in unit:
-            if not (_number(getattr(self, name)) and 0 < getattr(self, name) <= 1):
-                raise bad(name, "a number in (0, 1]")
-        for name in ("lost_share", "max_reset_share", "min_reset_share"):
-            if not (_number(getattr(self, name)) and 0 <= getattr(self, name) <= 1):
-                raise bad(name, "a number in [0, 1] (0: no sensor resetting)")
-        if not (_number(self.lost_quality) and 0 <= self.lost_quality < 1):
-            raise bad("lost_quality", "a number in [0, 1)")
+        check_fields(self, LocalizationParamsError)
         if self.alpha_slow >= self.alpha_fast:
-            raise bad("alpha_slow", f"< alpha_fast ({self.alpha_fast!r})")
+            raise invalid(self, "alpha_slow", f"< alpha_fast ({self.alpha_fast!r})",
+                          LocalizationParamsError)
         if self.lost_share > self.max_reset_share:
-            raise bad("lost_share", f"<= max_reset_share ({self.max_reset_share!r})")
+            raise invalid(self, "lost_share", f"<= max_reset_share ({self.max_reset_share!r})",
+                          LocalizationParamsError)
 
     @classmethod
     def from_overrides(cls, overrides: Mapping[str, Any]) -> LocalizationParams:
         """The defaults with ``overrides`` applied; an unknown key names the known ones."""
         values = {k: tuple(v) if isinstance(v, list) else v for k, v in overrides.items()}
-        return build_config(cls, values, section="LocalizationParams", error=LocalizationError)
+        return build_config(cls, values, section="LocalizationParams",
+                            error=LocalizationParamsError)
 
 
 OUTLIER_CAP = 8.0

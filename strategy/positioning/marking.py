@@ -30,7 +30,7 @@ from __future__ import annotations
 import functools
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import NamedTuple
 
 import numpy as np
@@ -38,12 +38,18 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import linear_sum_assignment
 from scipy.spatial.distance import cdist
 
-from teamenv.errors import TeamEnvError
+from paramkit.checks import check_fields, non_negative
+from teamenv.errors import ConfigError, TeamEnvError
 from teamenv.field import FieldSpec, field_preset
 
 
 class MarkingError(TeamEnvError, ValueError):
     """Bad input to marking (shape, NaN, negative distance); names the field and value."""
+
+
+class MarkingParamsError(MarkingError, ConfigError):
+    """A ``MarkingParams`` value is not valid: a ``MarkingError`` and, as every bad parameter,
+    a ``ConfigError``."""
 
 
 @dataclass(frozen=True)
@@ -60,22 +66,14 @@ class MarkingParams:
             formation position).
     """
 
-    shoot_range_m: float = 9.0
-    min_ball_distance_m: float = 2.0
-    max_behind_ball_m: float = 3.0
-    mark_distance_m: float = 1.5
-    max_markers: int | None = 3
+    shoot_range_m: float = field(default=9.0, metadata=non_negative())
+    min_ball_distance_m: float = field(default=2.0, metadata=non_negative())
+    max_behind_ball_m: float = field(default=3.0, metadata=non_negative())
+    mark_distance_m: float = field(default=1.5, metadata=non_negative())
+    max_markers: int | None = field(default=3, metadata=non_negative())
 
     def __post_init__(self) -> None:
-        for name in ("shoot_range_m", "min_ball_distance_m", "max_behind_ball_m",
-                     "mark_distance_m"):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and np.isfinite(v) and v >= 0):
-                raise MarkingError(f"MarkingParams.{name} must be a finite number >= 0, got {v!r}")
-        if self.max_markers is not None and (not isinstance(self.max_markers, int)
-                                             or self.max_markers < 0):
-            raise MarkingError(f"MarkingParams.max_markers must be None or an int >= 0, "
-                               f"got {self.max_markers!r}")
+        check_fields(self, MarkingParamsError)
 
     @classmethod
     def for_field(cls, field: str | FieldSpec, **overrides: object) -> MarkingParams:

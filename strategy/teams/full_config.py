@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, fields
 
+from paramkit.checks import check_fields, in_range, invalid, non_negative
 from strategy.behaviours.navigation import NavigationParams
 from strategy.decision.params import DecisionParams
 from strategy.perception.localization import LocalizationParams
@@ -111,50 +112,28 @@ class FullTeamConfig:
     communicate: bool = True
     vote: bool = True
     vote_since_own_change: bool = True
-    localization_particles: int = 50
-    say_every: int = 1
-    nav_k_repulse: float = field(default=-0.35, metadata=search(Range(-1.5, -0.05)))
+    localization_particles: int = field(default=50, metadata=in_range(1))
+    say_every: int = field(default=1, metadata=in_range(1))
+    nav_k_repulse: float = field(default=-0.35, metadata=search(Range(-1.5, -0.05))
+                                 | in_range(high=0.0, high_open=True))  # repulsive, eq. 6
     nav_influence_m: float = field(default=1.6, metadata=search(Range(0.5, 4.0)))
     nav_max_speed: float = field(default=1.2, metadata=search(Range(0.6, 1.5)))
-    kick_max_angle_rad: float = field(default=3.1, metadata=search(Range(0.5, 3.14)))
+    kick_max_angle_rad: float = field(default=3.1, metadata=search(Range(0.5, 3.14))
+                                      | in_range(0.0, math.pi, low_open=True))
     kick_possession_weight: float = field(default=2.0, metadata=search(Range(0.2, 20.0, "log")))
     kick_progress_weight: float = field(default=0.15, metadata=search(Range(0.01, 1.5, "log")))
     kick_goal_weight: float = field(default=25.0, metadata=search(Range(2.0, 200.0, "log")))
     kick_min_margin_s: float = field(default=1.0, metadata=search(Range(0.0, 3.0)))
     kick_follow_up: float = field(default=0.5, metadata=search(Range(0.0, 1.0)))
-    ball_pull: float = field(default=0.5, metadata=search(Range(0.0, 1.0)))
+    ball_pull: float = field(default=0.5, metadata=search(Range(0.0, 1.0)) | in_range(0.0, 1.0))
 
     def __post_init__(self) -> None:
+        check_fields(self, ConfigError, default=non_negative())  # a number: >= 0 unless declared
         names = set(KINDS) | set(builtin_formation_names())
         for f in fields(self):
-            value = getattr(self, f.name)
-            if f.name.startswith("formation_"):
-                if value not in names:
-                    raise ConfigError(f"full team config: {f.name}={value!r} is not a formation "
-                                      f"kind {KINDS} or a built-in formation name")
-            elif f.type in ("bool", bool):
-                if not isinstance(value, bool):
-                    raise ConfigError(f"full team config: {f.name} must be true or false, "
-                                      f"got {value!r}")
-            elif f.type in ("int", int):
-                if isinstance(value, bool) or not isinstance(value, int) or value < (
-                        1 if f.name in ("say_every", "localization_particles") else 0):
-                    raise ConfigError(f"full team config: {f.name} must be an integer >= "
-                                      f"{1 if f.name in ('say_every', 'localization_particles') else 0}, got {value!r}")
-            elif f.name == "nav_k_repulse":
-                if not (isinstance(value, (int, float)) and math.isfinite(value) and value < 0):
-                    raise ConfigError(f"full team config: nav_k_repulse must be < 0 (a "
-                                      f"repulsive potential, eq. 6), got {value!r}")
-            elif isinstance(value, bool) or not isinstance(value, (int, float)) or \
-                    not math.isfinite(value) or value < 0:
-                raise ConfigError(f"full team config: {f.name} must be a finite number >= 0, "
-                                  f"got {value!r}")
-        if not 0 < self.kick_max_angle_rad <= math.pi:
-            raise ConfigError(f"full team config: kick_max_angle_rad must be in (0, pi], got "
-                              f"{self.kick_max_angle_rad!r}")
-        if self.ball_pull > 1:
-            raise ConfigError(f"full team config: ball_pull must be in [0, 1], got "
-                              f"{self.ball_pull!r}")
+            if f.name.startswith("formation_") and getattr(self, f.name) not in names:
+                raise invalid(self, f.name, f"a formation kind {KINDS} or a built-in formation "
+                              "name", ConfigError)
 
     @classmethod
     def from_overrides(cls, team: str, overrides: dict) -> FullTeamConfig:

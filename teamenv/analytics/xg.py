@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from paramkit.checks import check_fields, invalid
 from teamenv.errors import ConfigError
 
 FEATURES = ("distance_m", "angle_rad", "blockers")
@@ -38,12 +39,9 @@ class XGModel:
     fitted: dict[str, Any] = field(default_factory=dict)  # how the coefficients were made
 
     def __post_init__(self) -> None:
+        check_fields(self, ConfigError)
         if len(self.coefficients) != len(FEATURES):
-            raise ConfigError(f"xG model: {len(self.coefficients)} coefficients, expected one "
-                              f"per feature {list(FEATURES)}")
-        values = (self.intercept, *self.coefficients)
-        if not all(np.isfinite(v) for v in values):
-            raise ConfigError(f"xG model: coefficients must be finite, got {values}")
+            raise invalid(self, "coefficients", f"one per feature {list(FEATURES)}", ConfigError)
 
     def probability(self, features: np.ndarray) -> np.ndarray:
         """P(goal) for each row of ``features`` (k, 3): distance m, angle rad, blockers."""

@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from paramkit.checks import check_fields, in_range, one_of, positive
 from teamenv.actions import ActionParser
 from teamenv.env import team_seeds
 from teamenv.errors import ActionError, ConfigError, TeamFault
@@ -82,25 +83,15 @@ class LeagueMatchOptions:
     protocol code in this process, no sockets; seeded, so the same seed replays a match);
     walker: the robots' walk controller, a name in ``WALKERS``."""
 
-    team_size: int = MAX_TEAM_SIZE
-    game_s: float = 30.0
+    team_size: int = field(default=MAX_TEAM_SIZE, metadata=in_range(1, MAX_TEAM_SIZE))
+    game_s: float = field(default=30.0, metadata=positive())
     rules: str = "ssim"
-    kick_off: str = "Left"
-    server: str = "real"
-    walker: str = DEFAULT_WALKER
+    kick_off: str = field(default="Left", metadata=one_of("Left", "Right"))
+    server: str = field(default="real", metadata=one_of("real", "local"))
+    walker: str = field(default=DEFAULT_WALKER, metadata=one_of(*sorted(WALKERS)))
 
     def __post_init__(self) -> None:
-        if not 1 <= self.team_size <= MAX_TEAM_SIZE:
-            raise ConfigError(f"league match: team_size {self.team_size} is not in 1..{MAX_TEAM_SIZE}")
-        if not self.game_s > 0:
-            raise ConfigError(f"league match: game_s {self.game_s} must be > 0")
-        if self.kick_off not in ("Left", "Right"):
-            raise ConfigError(f"league match: kick_off {self.kick_off!r} is not Left or Right")
-        if self.server not in ("real", "local"):
-            raise ConfigError(f"league match: server {self.server!r} is not real or local")
-        if self.walker not in WALKERS:
-            raise ConfigError(f"league match: walker {self.walker!r} is not one of "
-                              f"{sorted(WALKERS)}")
+        check_fields(self, ConfigError)
 
     def match_options(self) -> MatchOptions:
         """The env's options for the same match (what the database stores)."""

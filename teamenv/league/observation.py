@@ -203,11 +203,8 @@ class VisionObservationBuilder:
 
     def _as_dict(self, row: np.ndarray, mode: int, texts: tuple[str, ...]) -> dict[str, Any]:
         """The env's Dict form (``VisionPerception.as_dicts``): views of ``row``."""
-        out: dict[str, Any] = {}
-        for key, shape in self.layout.parts:
-            if key != "play_mode":
-                a, b = self._off[key]
-                out[key] = row[a:b].reshape(shape)
+        out: dict[str, Any] = {key: rows[0] for key, rows
+                               in self.layout.dict_parts(row[None]).items()}
         out["play_mode"] = mode
         out["heard_text"] = texts
         return out

@@ -28,6 +28,8 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from paramkit.checks import check_fields, in_range, non_negative
+from teamenv.errors import ConfigError
 from teamenv.optimize.checkpoint import CheckpointStore, Generation, OptimizeError
 from teamenv.search_space import SearchSpace
 
@@ -91,25 +93,21 @@ class Evaluator(Protocol):
                  reporter: Reporter) -> list[CandidateScore]: ...
 
 
+class SearchSettingsError(OptimizeError, ConfigError):
+    """A ``SearchSettings`` value is out of range or of the wrong type."""
+
+
 @dataclass(frozen=True)
 class SearchSettings:
     """CMA-ES settings: ``seed`` of its sampler, ``popsize`` (None: cma's default
     4 + 3 ln n), ``sigma0`` (initial step, a fraction of each parameter's range)."""
 
-    seed: int = 0
-    popsize: int | None = None
-    sigma0: float = 0.2
+    seed: int = field(default=0, metadata=non_negative())
+    popsize: int | None = field(default=None, metadata=in_range(2))
+    sigma0: float = field(default=0.2, metadata=in_range(0.0, 1.0, low_open=True))
 
     def __post_init__(self) -> None:
-        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
-            raise OptimizeError(f"seed: must be an int >= 0, got {self.seed!r}")
-        if self.popsize is not None and (isinstance(self.popsize, bool) or
-                                         not isinstance(self.popsize, int) or self.popsize < 2):
-            raise OptimizeError(f"popsize: must be an int >= 2, got {self.popsize!r}")
-        if isinstance(self.sigma0, bool) or not isinstance(self.sigma0, (int, float)) or \
-                not 0 < self.sigma0 <= 1:
-            raise OptimizeError(f"sigma0: must be in (0, 1] (a fraction of each range), got "
-                                f"{self.sigma0!r}")
+        check_fields(self, SearchSettingsError)
 
     def to_json(self) -> dict[str, Any]:
         return {"seed": self.seed, "popsize": self.popsize, "sigma0": self.sigma0}

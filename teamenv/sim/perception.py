@@ -2,21 +2,20 @@
 
 from __future__ import annotations
 
-from typing import Any, Sequence
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
+from teamenv.box_layout import (
+    HEARD_DIM,
+    PLAYER_DIM,
+    SELF_DIM,
+    StateLayout,
+    play_mode_and_game_block,
+)
 from teamenv.sim.playmode import PlayMode
 from teamenv.sim.world import wrap_angle as _wrap
-
-SELF_DIM, BALL_DIM, PLAYER_DIM, GAME_DIM, HEARD_DIM = 7, 4, 5, 4, 4
-N_PLAY_MODES = len(PlayMode)
-
-
-def flat_observation_size(team_size: int, heard_slots: int) -> int:
-    """Length of the flat (Box) observation vector."""
-    return SELF_DIM + BALL_DIM + 2 * team_size * PLAYER_DIM + N_PLAY_MODES + GAME_DIM + \
-        heard_slots * HEARD_DIM
 
 
 class StatePerception:
@@ -34,19 +33,20 @@ class StatePerception:
         self.team_of = np.repeat([0, 1], team_size)
         n = 2 * team_size
         self._team_list = self.team_of.tolist()
-        self._rows = np.arange(n)
         # Column order of the players for each agent: own team first (uniform order).
         order = [np.arange(n), np.r_[np.arange(team_size, n), np.arange(team_size)]]
         self._cols = np.stack([order[t] for t in self._team_list]) if n else \
             np.zeros((0, 0), dtype=np.intp)
-        # One float64 row per agent, laid out as the flat observation; the Dict parts are
-        # views of its float32 copy.
-        self._o_ball = SELF_DIM
-        self._o_players = self._o_ball + BALL_DIM
-        self._o_mode = self._o_players + n * PLAYER_DIM
-        self._o_game = self._o_mode + N_PLAY_MODES
-        self._o_heard = self._o_game + GAME_DIM
-        self._width = self._o_heard + heard_slots * HEARD_DIM
+        # One float64 row per agent, laid out as the flat observation (``StateLayout``); the
+        # Dict parts are views of its float32 copy.
+        self.layout = StateLayout(team_size, heard_slots)
+        offsets = self.layout.offsets
+        self._o_ball = offsets["ball"][0]
+        self._o_players = offsets["teammates"][0]
+        self._o_mode = offsets["play_mode"][0]
+        self._o_game = offsets["game"][0]
+        self._o_heard = offsets["heard"][0]
+        self._width = self.layout.size
         # Parts that change only with the attack directions, play mode, half or score.
         self._sign_key: tuple | None = None
         self._block_key: tuple | None = None
@@ -118,14 +118,8 @@ class StatePerception:
         modes = (int(mode), int(mode.for_team(1)))
         key = (modes, half, tuple(score))
         if key != self._block_key:
-            block = np.zeros((n, self._o_heard - self._o_mode))
-            block[self._rows, np.take(modes, team_of)] = 1.0
-            g = self._o_game - self._o_mode
-            own_score = np.asarray(score, dtype=float)
-            block[:, g + 1] = half
-            block[:, g + 2] = own_score[team_of]
-            block[:, g + 3] = own_score[1 - team_of]
-            self._block, self._block_key = block, key
+            self._block = play_mode_and_game_block(team_of, modes, half, score)
+            self._block_key = key
             self._team_modes = [modes[t] for t in self._team_list]
             rows[:, self._o_mode:self._o_heard] = self._block
         rows[:, self._o_game] = time_s

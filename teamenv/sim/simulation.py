@@ -4,17 +4,18 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from itertools import chain
-from typing import Sequence
 
 import numpy as np
 
 import comms
 import locomotion
+from teamenv.box_layout import HEARD_DIM
 from teamenv.config import PerceptionConfig, PhysicsConfig, RulesConfig
 from teamenv.field import FieldSpec
-from teamenv.sim.perception import HEARD_DIM, StatePerception
+from teamenv.sim.perception import StatePerception
 from teamenv.sim.referee import Referee, RefereeEvent
 from teamenv.sim.vision import VisionPerception
 from teamenv.sim.world import World, wrap_angle
@@ -264,7 +265,7 @@ class Simulation:
             counts = list(map(len, heard))
             if not sum(counts):
                 return
-            _, texts, direction, is_self, teammate = zip(*chain.from_iterable(heard))
+            _, texts, direction, is_self, teammate = zip(*chain.from_iterable(heard), strict=False)
             listener = np.repeat(self._listener_ids, counts)
             is_self_a = np.array(is_self, dtype=bool)
             mate_a = np.array(teammate, dtype=bool)

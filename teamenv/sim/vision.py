@@ -46,66 +46,16 @@ from typing import Any
 import numpy as np
 
 import portable_math as pm
+from teamenv.box_layout import (
+    LINE_DIM,
+    SIGHTING_DIM,
+    VisionLayout,
+    play_mode_and_game_block,
+)
 from teamenv.config import PerceptionConfig
 from teamenv.field import FieldSpec
 from teamenv.landmarks import field_lines, landmarks
-from teamenv.sim.perception import GAME_DIM, HEARD_DIM, N_PLAY_MODES
 from teamenv.sim.playmode import PlayMode
-
-SIGHTING_DIM = 4  # present, distance, azimuth, elevation
-LINE_DIM = 7  # present, d1, az1, el1, d2, az2, el2
-VISION_INFO_DIM = 2  # fresh, cycles since the last update
-COUNTS_DIM = 4  # landmarks seen, players seen, lines seen, ball seen
-ODOMETRY_DIM = 3  # body-frame dx, dy, dpsi the walk engine believes
-GYRO_DIM = 1  # heading change of the cycle (rad)
-BODY_DIM = 2  # fallen, head pan (rad; the fixed head: 0)
-
-
-@dataclass(frozen=True)
-class VisionLayout:
-    """Where each part lies in one agent's flat (Box) vision observation.
-
-    ``parts`` lists ``(key, shape)`` in Box order; ``play_mode`` is a one-hot of
-    ``N_PLAY_MODES`` in the Box (an int in the Dict form).
-    """
-
-    n_landmarks: int
-    team_size: int
-    n_lines: int
-    heard_slots: int
-
-    @property
-    def parts(self) -> tuple[tuple[str, tuple[int, ...]], ...]:
-        n = self.team_size
-        return (
-            ("landmarks", (self.n_landmarks, SIGHTING_DIM)),
-            ("ball", (SIGHTING_DIM,)),
-            ("teammates", (n, SIGHTING_DIM)),
-            ("opponents", (n, SIGHTING_DIM)),
-            ("lines", (self.n_lines, LINE_DIM)),
-            ("vision", (VISION_INFO_DIM,)),
-            ("counts", (COUNTS_DIM,)),
-            ("odometry", (ODOMETRY_DIM,)),
-            ("gyro", (GYRO_DIM,)),
-            ("body", (BODY_DIM,)),
-            ("play_mode", (N_PLAY_MODES,)),
-            ("game", (GAME_DIM,)),
-            ("heard", (self.heard_slots, HEARD_DIM)),
-        )
-
-    @property
-    def offsets(self) -> dict[str, tuple[int, int]]:
-        """``key -> (start, stop)`` in the flat vector."""
-        out, at = {}, 0
-        for key, shape in self.parts:
-            size = math.prod(shape)
-            out[key] = (at, at + size)
-            at += size
-        return out
-
-    @property
-    def size(self) -> int:
-        return sum(math.prod(shape) for _, shape in self.parts)
 
 
 def vision_layout(field: FieldSpec, team_size: int, heard_slots: int,
@@ -276,15 +226,8 @@ class VisionPerception:
         modes = (int(mode), int(mode.for_team(1)))
         key = (modes, half, tuple(score))
         if key != self._block_key:
-            a, b = off["play_mode"][0], off["game"][1]
-            block = np.zeros((n, b - a))
-            block[self._rows, np.take(modes, self.team_of)] = 1.0
-            g = N_PLAY_MODES
-            own = np.asarray(score, dtype=float)
-            block[:, g + 1] = half
-            block[:, g + 2] = own[self.team_of]
-            block[:, g + 3] = own[1 - self.team_of]
-            self._block, self._block_key = block, key
+            self._block = play_mode_and_game_block(self.team_of, modes, half, score)
+            self._block_key = key
             self._team_modes = [modes[t] for t in self._team_list]
         a, b = off["play_mode"][0], off["game"][1]
         rows[:, a:b] = self._block
@@ -461,13 +404,8 @@ class VisionPerception:
 
     def as_dicts(self, frame: VisionFrame) -> list[dict[str, Any]]:
         """The Dict form (values are views of the frame's rows; ``play_mode`` an int)."""
-        out, off, n = frame.rows, self._off, self.n
-        keys = [key for key, _ in self.layout.parts if key != "play_mode"]
-        arrays = []
-        for key, shape in self.layout.parts:
-            if key != "play_mode":
-                a, b = off[key]
-                arrays.append(out[:, a:b].reshape((n, *shape)))
+        parts = self.layout.dict_parts(frame.rows)
+        keys, arrays = list(parts), list(parts.values())
         return [dict(zip(keys, values, strict=True), play_mode=mode, heard_text=texts)
                 for *values, mode, texts in zip(*arrays, frame.team_modes, frame.heard_texts,
                                                 strict=True)]

@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from paramkit.checks import check_fields, in_range, non_negative, positive
 from teamenv.match import MatchOptions
 from teamenv.tournament.errors import TournamentConfigError
 from teamenv.tournament.spec import TeamSpec, parse_team_spec
@@ -46,12 +47,12 @@ class Tournament:
     teams: tuple[TeamSpec, ...]
     format: str = "round_robin"
     challenger: TeamSpec | None = None
-    games_per_pairing: int = 2
+    games_per_pairing: int = field(default=2, metadata=in_range(1))
     swap_sides: bool = True
-    seed: int = 0
+    seed: int = field(default=0, metadata=non_negative())
     options: MatchOptions = field(default_factory=MatchOptions)
-    cycle_time_budget_s: float | None = None
-    stall_timeout_s: float | None = 10.0
+    cycle_time_budget_s: float | None = field(default=None, metadata=positive(infinite=True))
+    stall_timeout_s: float | None = field(default=10.0, metadata=positive(infinite=True))
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name.strip():
@@ -79,22 +80,12 @@ class Tournament:
         dupes = sorted({x for x in labels if labels.count(x) > 1})
         if dupes:
             raise TournamentConfigError(f"teams: {dupes} named more than once")
-        if isinstance(self.games_per_pairing, bool) or not isinstance(self.games_per_pairing, int) \
-                or self.games_per_pairing < 1:
-            raise TournamentConfigError(f"games_per_pairing: must be an int >= 1, got "
-                                        f"{self.games_per_pairing!r}")
-        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
-            raise TournamentConfigError(f"seed: must be an int >= 0, got {self.seed!r}")
         if not isinstance(self.options, MatchOptions):
             try:
                 object.__setattr__(self, "options", MatchOptions.from_dict(self.options))
             except Exception as exc:
                 raise TournamentConfigError(f"match options: {exc}") from exc
-        for name in ("cycle_time_budget_s", "stall_timeout_s"):
-            value = getattr(self, name)
-            if value is not None and (not isinstance(value, (int, float)) or value <= 0):
-                raise TournamentConfigError(f"{name}: must be a positive number of seconds or "
-                                            f"None, got {value!r}")
+        check_fields(self, TournamentConfigError)  # the numbers (and every field's type)
 
     @property
     def all_teams(self) -> tuple[TeamSpec, ...]:

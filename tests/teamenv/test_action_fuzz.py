@@ -23,7 +23,8 @@ from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
 import teamenv
-from teamenv.actions import BOX_SIZE, DICT_KEYS
+from teamenv.actions import DICT_KEYS
+from teamenv.box_layout import ACTION_SIZE
 from teamenv.errors import ActionError, TeamEnvError, value_repr
 
 VALID, INVALID, EITHER = "valid", "invalid", "either"
@@ -75,7 +76,7 @@ anything = st.one_of(junk_scalars, nested, any_array, st.frozensets(st.integers(
 def vector(key: str) -> st.SearchStrategy[tuple[Any, str]]:
     """Values of a Box(3)/Box(2) field (or of the whole flat Box action), labelled."""
     if key == "box":
-        low, high = np.full(BOX_SIZE, -1.0), np.full(BOX_SIZE, 1.0)
+        low, high = np.full(ACTION_SIZE, -1.0), np.full(ACTION_SIZE, 1.0)
     else:
         low, high = BOUNDS[key]
     size = len(low)
@@ -208,7 +209,7 @@ def envs():
 def _good(env) -> dict[str, Any]:
     """Valid actions for every agent, in the common shape (the vectorized fast path)."""
     if env.action_format == "box":
-        return {a: np.full(BOX_SIZE, 0.1, np.float32) for a in env.agents}
+        return {a: np.full(ACTION_SIZE, 0.1, np.float32) for a in env.agents}
     say = "b2s=" if env.channel_name == "mj" else "ok"  # base64 of b"ok" on the mj channel
     return {a: {"walk": np.array([0.2, 0.0, 0.1], np.float32), "say": say} for a in env.agents}
 
@@ -275,7 +276,7 @@ def _names_dict_field(victim: str, action: Any):
 
 def _names_box_field(victim: str, action: Any):
     whole = f"agent {victim!r}: action = {value_repr(action)}: "
-    slots = tuple(f"agent {victim!r}: action[{j}] = " for j in range(BOX_SIZE))
+    slots = tuple(f"agent {victim!r}: action[{j}] = " for j in range(ACTION_SIZE))
     return lambda message: message.startswith(whole) or message.startswith(slots)
 
 
@@ -378,7 +379,7 @@ def test_lenient_box_reports_every_bad_agent():
     """Each agent whose Box action has a NaN or an out-of-range entry gets its own drop."""
     env = teamenv.parallel_env(team_size=TEAM_SIZE, action_format="box", strict=False)
     env.reset(seed=0)
-    actions = {a: np.zeros(BOX_SIZE) for a in env.agents}
+    actions = {a: np.zeros(ACTION_SIZE) for a in env.agents}
     actions["left_1"][2] = np.nan
     actions["right_2"][4] = np.nan
     actions["left_2"][0] = 3.0

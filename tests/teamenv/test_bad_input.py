@@ -104,7 +104,7 @@ def test_unknown_config_keys_and_values():
         teamenv.parallel_env(rules={"half_tme": 10})
     with pytest.raises(ConfigError, match="physics.*unknown key"):
         teamenv.parallel_env(physics={"gravity": 9.8})
-    with pytest.raises(ConfigError, match="rules.half_time_s.*-1"):
+    with pytest.raises(ConfigError, match="RulesConfig.half_time_s.*-1"):
         teamenv.parallel_env(rules={"half_time_s": -1})
     with pytest.raises(ConfigError, match="field.*unknown preset.*'moon'"):
         teamenv.parallel_env(field="moon")

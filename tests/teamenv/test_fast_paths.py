@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import teamenv
-from teamenv.sim.perception import N_PLAY_MODES
+from teamenv.box_layout import N_PLAY_MODES
 
 
 def _run(env, steps: int, seed: int = 0) -> str:

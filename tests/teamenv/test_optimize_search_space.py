@@ -75,7 +75,7 @@ def test_bad_fields_and_domains_name_the_field(kwargs, message):
 @pytest.mark.parametrize("make, message", [
     (lambda: Range(2.0, 1.0), "low must be < high"),
     (lambda: Range(1.0, 1.0), "low must be < high"),
-    (lambda: Range(0.0, 1.0, "log"), "log scale needs low > 0"),
+    (lambda: Range(0.0, 1.0, "log"), "low must be > 0 on a log scale"),
     (lambda: Range(0.0, float("inf")), "high must be a finite number"),
     (lambda: Range(0.0, 1.0, "cubic"), "scale must be one of"),
     (lambda: Range(0.2, 0.8, integer=True), "no integer in"),

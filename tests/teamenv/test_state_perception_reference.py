@@ -4,7 +4,8 @@ for bit, what the plain formulas of the observation layout give."""
 import numpy as np
 import pytest
 
-from teamenv.sim.perception import HEARD_DIM, N_PLAY_MODES, PLAYER_DIM, StatePerception
+from teamenv.box_layout import HEARD_DIM, N_PLAY_MODES, PLAYER_DIM
+from teamenv.sim.perception import StatePerception
 from teamenv.sim.playmode import PlayMode
 
 

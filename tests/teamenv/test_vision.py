@@ -10,10 +10,10 @@ import pytest
 
 import teamenv
 from teamenv import VISION_PROFILES, PerceptionConfig
+from teamenv.box_layout import N_PLAY_MODES
 from teamenv.errors import ConfigError
 from teamenv.landmarks import field_lines, from_polar, landmarks, to_polar
 from teamenv.match import MatchOptions, play_match
-from teamenv.sim.perception import N_PLAY_MODES
 from teamenv.sim.playmode import PlayMode
 
 EXACT = dict(distance_sigma_rel=0.0, azimuth_sigma_deg=0.0, elevation_sigma_deg=0.0,

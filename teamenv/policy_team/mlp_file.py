@@ -1,11 +1,4 @@
-"""A team plugin driven by a policy: a frozen MLP loaded from an ``.npz`` file, or any callable.
-
-Register name ``policy`` (entry point): ``right="policy", right_config={"path": "w.npz"}``, or
-in-process ``right_config={"policy": fn}`` with ``fn(obs_batch) -> actions``: ``obs_batch``
-(n_agents, obs_size) float32 flat (Box) observations of the team's agents in uniform-number
-order, ``actions`` (n_agents, 9) flat (Box) actions in [-1, 1] (clipped). Both are the env's
-``observation_format="box"`` / ``action_format="box"`` layouts (its docstring), so a policy
-trained on ``teamenv.single_agent.PlayerEnv`` or with the box formats plays here unchanged.
+"""The MLP policy file: a frozen network over flat (Box) observations, and its ``.npz`` format.
 
 The file format (``MLP_FORMAT``, torch-free, numpy only), an ``.npz`` with:
 
@@ -41,22 +34,16 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 import portable_math as pm
-from teamenv.actions import BOX_SIZE
+from teamenv.box_layout import ACTION_SIZE
 from teamenv.errors import ConfigError
-from teamenv.field import FieldSpec
 from teamenv.input_files import read_npz
-from teamenv.sim.perception import N_PLAY_MODES, flat_observation_size
-from teamenv.sim.vision import VisionLayout, vision_layout
-from teamenv.slots import SELF_COLUMNS
-from teamenv.team_config import team_config
-from teamenv.teams import TeamContext
+from teamenv.policy_team.reflexes import apply_reflexes
 
 MLP_FORMAT = "teamenv-mlp-v1"
 ACTIVATIONS: dict[str, Callable[[np.ndarray], np.ndarray]] = {
@@ -64,50 +51,6 @@ ACTIVATIONS: dict[str, Callable[[np.ndarray], np.ndarray]] = {
     "relu": lambda x: np.maximum(x, 0.0),
     "identity": lambda x: x,
 }
-
-PolicyFn = Callable[[np.ndarray], np.ndarray]
-
-#: Columns of the ball's position relative to the player (body frame) in a state-mode Box
-#: observation: right after the 7 ``self`` values (``teamenv.slots``).
-_BALL_REL = slice(len(SELF_COLUMNS), len(SELF_COLUMNS) + 2)
-
-
-def gate_kicks(obs_batch: np.ndarray, actions: np.ndarray, gate_m: float) -> np.ndarray:
-    """``actions`` (Box, one row per agent) with the kick power (entry 3) set to 0 on rows
-    whose state-mode observation puts the ball farther than ``gate_m`` metres away."""
-    rel = np.asarray(obs_batch, dtype=np.float64)[:, _BALL_REL]
-    far = np.hypot(rel[:, 0], rel[:, 1]) > gate_m
-    if far.any():
-        actions = actions.copy()
-        actions[far, 3] = 0.0
-    return actions
-
-
-
-def approach_ball(obs_batch: np.ndarray, actions: np.ndarray, gate_m: float) -> np.ndarray:
-    """``actions`` with the walk entries (0-2, Box units) replaced: towards the ball (turn
-    rate 2 x its bearing, clipped; full speed ahead when the bearing is within 0.6 rad, 0.2
-    otherwise) on rows whose state-mode observation puts the ball farther than ``gate_m``,
-    zero (stand for the kick) on the others."""
-    rel = np.asarray(obs_batch, dtype=np.float64)[:, _BALL_REL]
-    bearing = pm.arctan2(rel[:, 1], rel[:, 0])
-    far = np.hypot(rel[:, 0], rel[:, 1]) > gate_m
-    actions = actions.copy()
-    actions[:, 0] = np.where(far, np.where(np.abs(bearing) < 0.6, 1.0, 0.2), 0.0)
-    actions[:, 1] = 0.0
-    actions[:, 2] = np.where(far, np.clip(2.0 * bearing, -1.0, 1.0), 0.0)
-    return actions
-
-
-def apply_reflexes(obs_batch: np.ndarray, actions: np.ndarray, kick_gate_m: float | None,
-                   walk_to_ball: bool) -> np.ndarray:
-    """A policy file's reflexes on ``actions``: the walk at the ball (``walk_to_ball``), then
-    the kick gate (``kick_gate_m``; None: neither)."""
-    if kick_gate_m is None:
-        return actions
-    if walk_to_ball:
-        actions = approach_ball(obs_batch, actions, kick_gate_m)
-    return gate_kicks(obs_batch, actions, kick_gate_m)
 
 
 class PolicyFileError(ConfigError):
@@ -145,9 +88,9 @@ class MLPPolicy:
             if not (np.isfinite(w).all() and np.isfinite(b).all()):
                 raise fail(f"layer {k}: non-finite weights")
             self.layers.append((w, b))
-        if self.layers[-1][0].shape[1] != BOX_SIZE:
+        if self.layers[-1][0].shape[1] != ACTION_SIZE:
             raise fail(f"the last layer gives {self.layers[-1][0].shape[1]} outputs; a box "
-                       f"action has {BOX_SIZE}")
+                       f"action has {ACTION_SIZE}")
         for name, value in (("activation", activation),
                             ("output_activation", output_activation)):
             if value not in ACTIVATIONS:
@@ -301,123 +244,3 @@ def _policy_from_arrays(data: Mapping[str, np.ndarray], path: Path) -> MLPPolicy
                               f"{int(data['observation_size'])} but W0 has "
                               f"{policy.observation_size} rows")
     return policy
-
-
-# -- observations and actions between the Dict form (teams) and the Box form (policies) ----
-#: Box order of the parts of a Dict observation, per mode (the env's docstring; vision's is
-#: ``VisionLayout.parts``). ``heard_text`` has no place in the Box.
-STATE_BOX_ORDER = ("self", "ball", "teammates", "opponents", "play_mode", "game", "heard")
-VISION_BOX_ORDER = tuple(key for key, _ in VisionLayout(0, 0, 0, 0).parts)
-
-
-def flatten_observation(obs: Mapping[str, Any]) -> np.ndarray:
-    """One Dict-form observation as the env's flat Box row (float32): its numeric parts in
-    Box order, ``play_mode`` one-hot, ``heard_text`` left out (state or vision mode)."""
-    parts = []
-    for key in STATE_BOX_ORDER if "self" in obs else VISION_BOX_ORDER:
-        value = obs[key]
-        if key == "play_mode":
-            one_hot = np.zeros(N_PLAY_MODES, dtype=np.float32)
-            one_hot[int(value)] = 1.0
-            parts.append(one_hot)
-        else:
-            parts.append(np.asarray(value, dtype=np.float32).ravel())
-    return np.concatenate(parts)
-
-
-def box_to_dict_action(action: np.ndarray, walk_low: Sequence[float],
-                       walk_high: Sequence[float], field: FieldSpec) -> dict[str, Any]:
-    """A Box action in [-1, 1]^9 as the Dict action the env's box parser would make of it
-    (walk scaled to the profile's range, asymmetric; kick power <= 0: no kick; beam)."""
-    a = np.clip(np.asarray(action, dtype=float), -1.0, 1.0)
-    low, high = np.asarray(walk_low, dtype=float), np.asarray(walk_high, dtype=float)
-    walk = np.where(a[:3] >= 0, a[:3] * high, -a[:3] * low)
-    return {"walk": walk, "kick": np.array([max(a[3], 0.0), a[4] * math.pi]),
-            "beam_request": int(a[5] > 0.0),
-            "beam": np.array([(a[6] - 1.0) * 0.5 * field.half_length, a[7] * field.half_width,
-                              a[8] * math.pi])}
-
-
-def expected_observation_size(context: TeamContext) -> int:
-    """The flat observation length the env gives the agents of ``context``."""
-    import comms
-
-    heard = int(comms.get_profile(context.channel).max_heard)
-    if context.observation_mode == "state":
-        return flat_observation_size(context.team_size, heard)
-    return vision_layout(context.field, context.team_size, heard, context.perception).size
-
-
-@dataclass(frozen=True)
-class PolicyTeamConfig:
-    """The policy team's options, exactly one of them: ``path`` (an ``MLP_FORMAT`` file) or
-    ``policy`` (a callable ``obs_batch -> actions``, or an ``MLPPolicy``)."""
-
-    path: str | Path | None = None
-    policy: PolicyFn | None = None
-
-
-class PolicyTeam:
-    """Drives every agent of a side with one policy (shared weights, one batched call a cycle).
-
-    Config: ``path`` (an ``MLP_FORMAT`` file) or ``policy`` (a callable ``obs_batch ->
-    actions``, or an ``MLPPolicy``), exactly one of them (``PolicyTeamConfig``).
-    """
-
-    def __init__(self, context: TeamContext, **config: Any) -> None:
-        options = team_config("policy", PolicyTeamConfig, config, error=PolicyFileError)
-        path, policy = options.path, options.policy
-        if (path is None) == (policy is None):
-            raise PolicyFileError(f"policy team ({context.side}): give exactly one of 'path' "
-                                  f"(a {MLP_FORMAT} .npz file) or 'policy' (a callable)")
-        if path is not None:
-            policy = load_policy(path)
-        elif not callable(policy):
-            raise PolicyFileError(f"policy team ({context.side}): 'policy' must be callable "
-                                  f"(obs_batch -> actions), got {policy!r}")
-        self.context = context
-        self.policy = policy
-        self.observation_size = expected_observation_size(context)
-        mode = getattr(policy, "observation_mode", None)
-        if mode is not None and mode != context.observation_mode:
-            raise PolicyFileError(f"policy {getattr(policy, 'source', '')}: trained on "
-                                  f"observation_mode {mode!r}, the env uses "
-                                  f"{context.observation_mode!r}")
-        size = getattr(policy, "observation_size", None)
-        if size is not None and size != self.observation_size:
-            trained = getattr(policy, "team_size", None)
-            raise PolicyFileError(
-                f"policy {getattr(policy, 'source', '')}: takes observations of {size} values"
-                f"{'' if trained is None else f' (trained with team_size {trained})'}; this "
-                f"env gives {self.observation_size} (team_size {context.team_size}, "
-                f"{context.observation_mode} mode, {context.channel} channel)")
-
-        self.action_repeat = int(getattr(policy, "action_repeat", 1))
-        self._cycle = 0
-        self._held: np.ndarray | None = None
-
-    def reset(self, seed: int) -> None:
-        """A frozen policy draws no random numbers; a new episode restarts its repeat count."""
-        self._cycle = 0
-        self._held = None
-
-    def act(self, observations: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[str, Any]]:
-        agents = list(observations)
-        if not agents:
-            return {}
-        batch = np.stack([flatten_observation(observations[a]) for a in agents])
-        if self.action_repeat == 1:
-            actions = np.asarray(self.policy(batch), dtype=float)
-        else:  # an MLPPolicy with a frame skip: the network every k-th cycle, gated each cycle
-            if self._cycle % self.action_repeat == 0 or self._held is None or \
-                    len(self._held) != len(agents):
-                self._held = np.asarray(self.policy.network_actions(batch), dtype=float)
-            self._cycle += 1
-            actions = np.asarray(self.policy.gate(batch, self._held), dtype=float)
-        if actions.shape != (len(agents), BOX_SIZE) or not np.isfinite(actions).all():
-            raise PolicyFileError(f"policy team ({self.context.side}): the policy returned "
-                                  f"{actions.shape} (finite: {np.isfinite(actions).all()}), "
-                                  f"expected ({len(agents)}, {BOX_SIZE}) finite values")
-        ctx = self.context
-        return {a: box_to_dict_action(row, ctx.walk_low, ctx.walk_high, ctx.field)
-                for a, row in zip(agents, actions, strict=True)}
