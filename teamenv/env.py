@@ -14,16 +14,11 @@ import locomotion
 from teamenv import spaces as tspaces
 from teamenv.actions import ActionParser
 from teamenv.capabilities import DEFAULT_LOCOMOTION_PROFILE
-from teamenv.config import (
-    PerceptionConfig,
-    PhysicsConfig,
-    RulesConfig,
-    build_config,
-    perception_config,
-)
+from teamenv.config import PerceptionConfig, PhysicsConfig, RulesConfig, build_config
 from teamenv.errors import ActionError, ConfigError, TeamFault, value_repr
 from teamenv.field import FieldSpec, field_preset
 from teamenv.lazy import LazyInfos, LazyObservations
+from teamenv.observation_mode import OBSERVATION_MODES, ObservationMode
 from teamenv.rewards import RewardTerms, reward_weights
 from teamenv.scenarios import Scenario, ScenarioRun, get_scenario
 from teamenv.sim.perception import ObservationRows
@@ -32,7 +27,6 @@ from teamenv.sim.simulation import SIM_PHASES, Commands, CycleReport, Simulation
 from teamenv.teams import make_team, team_context
 
 SIDES = ("left", "right")
-OBSERVATION_MODES = ("state", "vision")
 #: Keys of ``SoccerParallelEnv.timings()``, in the order of a cycle (see its docstring).
 TIMING_PHASES = ("actions", "team_left", "team_right", *SIM_PHASES, "other")
 
@@ -213,17 +207,8 @@ class SoccerParallelEnv(ParallelEnv):
             raise ConfigError(f"reward_fn: must be callable, got {reward_fn!r}")
         self.rules = build_config(RulesConfig, rules)
         self.physics = build_config(PhysicsConfig, physics)
-        if observation_mode == "vision":
-            self.perception: PerceptionConfig | None = perception_config(vision, perception)
-            self.vision: str | None = "simspark" if vision is None else vision
-        else:
-            for name, value in (("vision", vision), ("perception", perception)):
-                if value is not None:
-                    raise ConfigError(f"{name}: {value!r} given, but observation_mode is "
-                                      f"{observation_mode!r}; it applies to "
-                                      "observation_mode='vision' only")
-            self.perception = self.vision = None
-        self.observation_mode = observation_mode
+        #: What the agents observe: the one place the env, sim and teams read the mode from.
+        self.obs_mode = ObservationMode.build(observation_mode, vision, perception)
         self.observation_format = observation_format
         self.action_format = action_format
         self.strict = strict
@@ -239,7 +224,7 @@ class SoccerParallelEnv(ParallelEnv):
         try:
             self.sim = Simulation(self.field, self.team_size, self.rules, self.physics, profile,
                                   channel, profile_phases=profile_phases,
-                                  perception=self.perception)
+                                  obs_mode=self.obs_mode)
         except (KeyError, ValueError) as exc:
             raise ConfigError(f"channel: {exc}") from exc
         self.channel_name = channel
@@ -262,7 +247,7 @@ class SoccerParallelEnv(ParallelEnv):
                                                   profile.command_high, channel_profile)
         else:
             act_space = tspaces.box_action_space()
-        if self.sim.vision is not None:
+        if self.obs_mode.is_vision:
             layout = self.sim.vision.layout
             obs_space = tspaces.vision_dict_observation_space(layout, channel_profile) \
                 if observation_format == "dict" else tspaces.vision_box_observation_space(layout)
@@ -279,8 +264,7 @@ class SoccerParallelEnv(ParallelEnv):
                     raise ConfigError(f"{side}_config given but no {side} team is named")
                 continue
             context = team_context(side, n, self.field, profile, self.physics,
-                                   channel_profile.name, observation_mode, self.perception,
-                                   self.vision)
+                                   channel_profile.name, self.obs_mode)
             self.teams[side] = make_team(spec, context, config)
         self.team_agents = {side: [f"{side}_{k + 1}" for k in range(n)] for side in self.teams}
         self._team_agent_sets = {side: set(a) for side, a in self.team_agents.items()}
@@ -314,6 +298,21 @@ class SoccerParallelEnv(ParallelEnv):
         # float() returns 0.0: with profiling off the clock is never read.
         self._clock = time.perf_counter if self.profile_phases else float
         self.reset_timings()
+
+    @property
+    def observation_mode(self) -> str:
+        """"state" or "vision" (``obs_mode.name``)."""
+        return self.obs_mode.name
+
+    @property
+    def vision(self) -> str | None:
+        """The vision profile's name in ``vision`` mode, else None (``obs_mode.vision``)."""
+        return self.obs_mode.vision
+
+    @property
+    def perception(self) -> PerceptionConfig | None:
+        """The camera of ``vision`` mode, else None (``obs_mode.perception``)."""
+        return self.obs_mode.perception
 
     # -- timing ----------------------------------------------------------------------------
     def timings(self) -> dict[str, float]:
@@ -521,7 +520,7 @@ class SoccerParallelEnv(ParallelEnv):
 
     def _refresh_observations(self) -> None:
         flat = self.observation_format == "box"
-        if self.sim.vision is not None:  # one look per cycle, in the forms needed
+        if self.obs_mode.is_vision:  # one look per cycle, in the forms needed
             team_obs, flats = self.sim.observation_forms(dicts=bool(self.teams) or not flat,
                                                          flat=flat)
             self._obs_all = flats if flat else team_obs
