@@ -20,6 +20,8 @@ from teamenv.field import FieldSpec
 from teamenv.observation_mode import STATE_MODE, ObservationMode
 
 ENTRY_POINT_GROUP = "teamenv.teams"
+#: The two sides, team 0 first; agent ``{side}_{k}`` is uniform number k of that side.
+SIDES = ("left", "right")
 
 
 @dataclass(frozen=True)
