@@ -203,7 +203,6 @@ class SoccerParallelEnv(ParallelEnv):
         self.reward_fn = reward_fn
         self.reward_weights = reward_weights(reward)
         self.max_cycles = max_cycles
-        self.team_cycle_budget_s = team_cycle_budget_s
         self.render_mode = render_mode
         try:
             profile = locomotion.load_profile(locomotion_profile)
@@ -291,6 +290,11 @@ class SoccerParallelEnv(ParallelEnv):
         """Seconds each team's ``act()`` calls took, by side (not zeroed by
         ``reset_timings``)."""
         return self.team_host.time_s
+
+    @property
+    def team_cycle_budget_s(self) -> float | None:
+        """A team whose ``act()`` takes longer faults as "too_slow" (None: no budget)."""
+        return self.team_host.cycle_budget_s
 
     @property
     def acting_side(self) -> str | None:
