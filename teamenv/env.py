@@ -1,12 +1,12 @@
+# Over 500 lines because the class docstring is the env's API reference (every action and
+# observation entry of both modes and formats, rewards, scenarios, infos, timing: ~95 lines)
+# and the caller's actions are checked here, next to the API they enter by.
 """The PettingZoo ParallelEnv: a thin shell over ``teamenv.sim.Simulation``.
 
 It checks the caller's arguments and actions, steps the simulation and returns observations,
 rewards, terminations and infos. The team plugins that drive whole sides are hosted by
-``teamenv.team_host``; rewards are ``teamenv.rewards``', infos ``teamenv.infos``'.
+``teamenv.team_host``; rewards come from ``teamenv.rewards`` and infos from ``teamenv.infos``.
 """
-# Over 500 lines because the class docstring is the env's API reference (every action and
-# observation entry of both modes and formats, rewards, scenarios, infos, timing: ~95 lines)
-# and the caller's actions are checked here, next to the API they enter by.
 
 from __future__ import annotations
 

@@ -1,12 +1,12 @@
+# Over 500 lines because the walker is one controller whose parts are tuned and tested together:
+# its parameters, the preview-control gains, the pattern generator with its IK, the measurement
+# its feedback reads (``Observer``, also used by the league controller) and the loop that runs
+# it; splitting them would scatter one algorithm over several files.
 """A 3D-LIPM walking pattern generator + leg IK + joint PD for the T1 (seed 001 sec. 4.2),
 closed by measured feedback (capture-point foot placement, torso attitude at ankles and hips).
 
 ``walk_mujoco`` and ``walk_brax`` run it on the T1 through one control loop (``_control_loop``);
 only the physics differs."""
-# Over 500 lines because the walker is one controller whose parts are tuned and tested together:
-# its parameters, the preview-control gains, the pattern generator with its IK, the measurement
-# its feedback reads (``Observer``, also used by the league controller) and the loop that runs
-# it; splitting them would scatter one algorithm over several files.
 
 from __future__ import annotations
 
