@@ -444,7 +444,7 @@ class SoccerParallelEnv(ParallelEnv):
 
         agents = list(self.agents)
         referee = self.sim.referee
-        rewards = self._rewards(agents, report, state, self._prev_state, referee.mode.name,
+        rewards = self._rewards(agents, report, state, self._prev_state, referee.mode,
                                 referee.attack_sign)
         self._prev_state = state
         terminated = self.sim.referee.game_over

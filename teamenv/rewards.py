@@ -28,6 +28,7 @@ from teamenv.errors import ConfigError
 from teamenv.teams import SIDES
 
 if TYPE_CHECKING:
+    from teamenv.sim.playmode import PlayMode
     from teamenv.sim.simulation import CycleReport
 
 REWARD_TERMS = ("goal", "ball_progress", "possession")
@@ -147,7 +148,7 @@ class CycleRewards:
         self.needs_state = reward_fn is not None or self.terms is not None
 
     def __call__(self, agents: Sequence[str], report: CycleReport, state: np.ndarray | None,
-                 previous_state: np.ndarray | None, play_mode: str,
+                 previous_state: np.ndarray | None, play_mode: PlayMode,
                  attack_sign: Sequence[float]) -> dict[str, float]:
         default = dict.fromkeys(agents, 0.0)
         for event in report.referee:
@@ -159,7 +160,7 @@ class CycleRewards:
             return default
         reward_input = RewardInput(
             agents=tuple(agents), report=report, state=state, previous_state=previous_state,
-            play_mode=play_mode, attack_sign=tuple(attack_sign), default=default)
+            play_mode=play_mode.name, attack_sign=tuple(attack_sign), default=default)
         if self.terms is not None:  # reward= first; reward_fn sees it as its default
             default = self.terms(reward_input)
             if self.reward_fn is None:
