@@ -227,19 +227,7 @@ class SoccerParallelEnv(ParallelEnv):
         channel_profile = self.sim.channel.profile
         self.parser = ActionParser(self.field, profile.command_low, profile.command_high,
                                    self.sim.channel, action_format, strict)
-        if action_format == "dict":
-            act_space = tspaces.dict_action_space(self.field, profile.command_low,
-                                                  profile.command_high, channel_profile)
-        else:
-            act_space = tspaces.box_action_space()
-        if self.obs_mode.is_vision:
-            layout = self.sim.vision.layout
-            obs_space = tspaces.vision_dict_observation_space(layout, channel_profile) \
-                if observation_format == "dict" else tspaces.vision_box_observation_space(layout)
-        elif observation_format == "dict":
-            obs_space = tspaces.dict_observation_space(n, self.sim.heard_slots, channel_profile)
-        else:
-            obs_space = tspaces.box_observation_space(n, self.sim.heard_slots)
+        act_space, obs_space = self._spaces(profile)
 
         #: The team plugins of the sides the caller does not drive, and what the env does
         #: with them (``teamenv.team_host``).
@@ -273,6 +261,26 @@ class SoccerParallelEnv(ParallelEnv):
         # float() returns 0.0: with profiling off the clock is never read.
         self._clock = time.perf_counter if self.profile_phases else float
         self.reset_timings()
+
+    def _spaces(self, profile: locomotion.Profile) -> tuple[Any, Any]:
+        """Every agent's action and observation space, for the env's formats and mode."""
+        channel_profile = self.sim.channel.profile
+        if self.action_format == "dict":
+            act_space = tspaces.dict_action_space(self.field, profile.command_low,
+                                                  profile.command_high, channel_profile)
+        else:
+            act_space = tspaces.box_action_space()
+        if self.obs_mode.is_vision:
+            layout = self.sim.vision.layout
+            obs_space = tspaces.vision_dict_observation_space(layout, channel_profile) \
+                if self.observation_format == "dict" \
+                else tspaces.vision_box_observation_space(layout)
+        elif self.observation_format == "dict":
+            obs_space = tspaces.dict_observation_space(self.team_size, self.sim.heard_slots,
+                                                       channel_profile)
+        else:
+            obs_space = tspaces.box_observation_space(self.team_size, self.sim.heard_slots)
+        return act_space, obs_space
 
     # -- the teams (``team_host``) -----------------------------------------------------------
     @property
