@@ -62,7 +62,7 @@ class EnvRun:
         for _ in range(64):
             if action_format == "box":
                 acts = rng.uniform(-1, 1, (len(env.agents), 9)).astype(np.float32)
-                pool.append(dict(zip(env.agents, acts)))
+                pool.append(dict(zip(env.agents, acts, strict=True)))
             else:
                 acts = {}
                 for a in env.agents:
@@ -189,7 +189,7 @@ def bench_bare_pymunk(steps: int, team_size: int, seed: int = 0) -> tuple[float,
     dt = env.physics.cycle_s
     space = world.space
     start = time.perf_counter()
-    for k in range(steps):
+    for _ in range(steps):
         substeps = max(1, math.ceil(world.ball.velocity.length * dt / env.physics.max_substep_travel))
         for _ in range(substeps):
             space.step(dt / substeps)
@@ -230,7 +230,7 @@ def bench_components(steps: int, team_size: int, **obs: str) -> dict[str, float]
     kick = np.zeros(n, dtype=bool)
     zeros = np.zeros(n)
     parts = {}
-    if sim.vision is not None:
+    if sim.obs_mode.is_vision:
         # Vision alone (geometry, noise, rows), then with the Dict views, on an update cycle
         # and on a cycle without one; the mean over a period is what a cycle costs on average.
         cycle, period = sim.cycle, sim.vision.config.update_period_cycles

@@ -1,3 +1,6 @@
+# Over 500 lines because it is one self-contained measurement: the counting rules
+# (MatchCounter) are read against the definitions in the docstring below, next to the runner
+# and the report that use them.
 """Why goals are rare: kicks, shots, possession, ball travel and dead time, per side and match.
 
     python benchmarks/goal_rarity.py                       # full:chaser, chaser:chaser, full:silent

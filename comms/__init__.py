@@ -16,15 +16,9 @@ from comms.channel import (
     REASON_MAX_HEARD,
     REASON_OUT_OF_RANGE,
     Channel,
-    Delivery,
-    Drop,
-    Heard,
-    Utterance,
-    hearing_capacity_trace,
-    loss_probability,
     make_channel,
-    received_volume,
 )
+from comms.delivery import Delivery, Drop, Heard, Utterance
 from comms.errors import (
     BudgetError,
     ChannelError,
@@ -33,6 +27,7 @@ from comms.errors import (
     EncodeError,
     SchemaError,
 )
+from comms.hearing import hearing_capacity_trace, loss_probability, received_volume
 from comms.profiles import (
     BASE64_ALPHABET,
     MJ,

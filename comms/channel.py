@@ -1,17 +1,20 @@
-"""The say channel model: who hears which message, when, and from which direction."""
+"""The say channel model: who hears which message, when, and from which direction.
+
+What a cycle delivers (`Utterance`, `Heard`, `Drop`, `Delivery`) is in `comms.delivery`; the
+hearing models as single-value formulas in `comms.hearing`."""
 
 import math
 import operator
 from collections import deque
 from collections.abc import Sequence
-from itertools import repeat
 from typing import Any, NamedTuple
 
 import numpy as np
 
 import portable_math as pm
+from comms.delivery import Delivery, Drop, Utterance
 from comms.errors import ChannelError
-from comms.profiles import REASON_BAD_VOLUME, ChannelProfile, HearingCapacity, get_profile
+from comms.profiles import REASON_BAD_VOLUME, ChannelProfile, get_profile
 
 #: Per-listener drop reasons (illegal messages use the reasons of `ChannelProfile.check_message`).
 REASON_OUT_OF_RANGE = "out_of_range"  # farther than the profile's hearing range
@@ -28,205 +31,25 @@ _max, _any, _add = np.maximum.reduce, np.logical_or.reduce, np.add.reduce
 _REAL = {int, float}
 
 
-class Utterance(NamedTuple):
-    """One `say` of one agent in one cycle.
+class _Routing(NamedTuple):
+    """One cycle's legal messages on their way to the listeners (`Channel._route`).
 
-    speaker: agent index (0..n_agents-1); text: the say text ("" = silent);
-    volume: percent 0-100, used by `mj` only.
+    speakers, texts: in arrival order; illegal: the drops of illegal messages; chunks: the
+    per-listener drops so far, (mask over (speaker slot, listener), reason); rel: listener ->
+    speaker offsets, (S, N) each; dist: their lengths; headings: the listeners'; masks: (4, S,
+    N) self, same team, teammate, opponent; in_range: None when everyone is within hearing
+    range.
     """
 
-    speaker: int
-    text: str
-    volume: float = 100.0
-
-
-class Heard(NamedTuple):
-    """One message as one listener hears it.
-
-    speaker: agent index (for infos and tests; agents are not shown it);
-    direction: rad, direction of the speaker relative to the listener's heading, in [-pi, pi)
-    (0 for self); is_self: the listener's own message; teammate: the speaker is on the
-    listener's team (True for self).
-    """
-
-    speaker: int
-    text: str
-    direction: float
-    is_self: bool
-    teammate: bool
-
-
-class Drop(NamedTuple):
-    """A message that did not reach a listener; listener is -1 when nobody hears it."""
-
-    speaker: int
-    listener: int
-    reason: str
-
-
-class Delivery:
-    """What every listener hears from one cycle's utterances.
-
-    `heard[i]`: list of Heard for listener i, at most `max_heard`, self first (built on first
-    access from `pairs`).
-    `dropped`: list of Drop (built on first access, so a caller that ignores it pays nothing).
-    `pairs`: the same as arrays, or None (a delivery nobody spoke into): a tuple
-    `(listener, speaker, text, direction, is_self, teammate)` over every (listener, message)
-    heard, sorted by listener and, within a listener, in `heard[i]` order: `listener`,
-    `speaker` (agent index) int arrays, `text` an object array of str, `direction` a float
-    array, `is_self` and `teammate` bool arrays. `heard` is built from exactly these values.
-    `grouped`: True when each listener's pairs come as its own message, then teammates',
-    then opponents' (`simspark`-like profiles; `mj` orders them by loudness).
-    """
-
-    __slots__ = ("_heard", "_dropped", "_pending", "pairs", "_n", "grouped")
-
-    def __init__(
-        self,
-        heard: list[list[Heard]] | None,
-        dropped: list[Drop] | None = None,
-        pending: Any = None,
-        pairs: tuple | None = None,
-        n_agents: int = 0,
-        grouped: bool = False,
-    ) -> None:
-        self._heard = heard
-        self.grouped = grouped
-        self._dropped = dropped if dropped is not None else []
-        self._pending = pending
-        self.pairs = pairs
-        self._n = n_agents
-
-    @property
-    def heard(self) -> list[list[Heard]]:
-        """Per listener, the list of Heard (at most `max_heard`, self first)."""
-        if self._heard is None:
-            out: list[list[Heard]] = [[] for _ in range(self._n)]
-            li, speaker, text, direction, me, mate = self.pairs
-            for lst_i, spk, t, a, s, m in zip(
-                li.tolist(),
-                speaker.tolist(),
-                text.tolist(),
-                direction.tolist(),
-                me.tolist(),
-                mate.tolist(),
-                strict=True,
-            ):
-                out[lst_i].append(_new(Heard, (spk, t, a, s, m)))
-            self._heard = out
-        return self._heard
-
-    @property
-    def dropped(self) -> list[Drop]:
-        """Every drop of the cycle: illegal messages first, then per-listener drops."""
-        if self._pending is not None:
-            speaker_ids, chunks = self._pending
-            self._pending = None
-            out = self._dropped
-            make = Drop._make
-            for mask, reason in chunks:
-                si, li = np.nonzero(mask)
-                out.extend(map(make, zip(speaker_ids[si].tolist(), li.tolist(), repeat(reason))))
-        return self._dropped
-
-    def drop_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The drops of `dropped`, in its order, as arrays (without building Drop objects):
-        speaker and listener (-1: nobody) int arrays, reason an object array of str."""
-        if self._pending is None:
-            drops = self._dropped
-            return (
-                np.array([d.speaker for d in drops], dtype=np.intp),
-                np.array([d.listener for d in drops], dtype=np.intp),
-                np.array([d.reason for d in drops], dtype=object),
-            )
-        speaker_ids, chunks = self._pending
-        illegal = self._dropped
-        speakers = [np.array([d.speaker for d in illegal], dtype=np.intp)]
-        listeners = [np.full(len(illegal), -1, dtype=np.intp)]
-        reasons = [np.array([d.reason for d in illegal], dtype=object)]
-        for mask, reason in chunks:
-            si, li = mask.nonzero()
-            speakers.append(speaker_ids[si])
-            listeners.append(li)
-            reasons.append(np.full(len(li), reason, dtype=object))
-        return np.concatenate(speakers), np.concatenate(listeners), np.concatenate(reasons)
-
-    def has_drops(self) -> bool:
-        """True when any message was dropped this cycle (cheap: builds no Drop)."""
-        if self._dropped:
-            return True
-        pending = self._pending
-        return pending is not None and any(_any(mask, axis=None) for mask, _ in pending[1])
-
-    def drop_counts(self) -> dict[str, int]:
-        """Number of drops per reason, without building the Drop list (cheap, for infos)."""
-        counts: dict[str, int] = {}
-        for d in self._dropped:
-            counts[d.reason] = counts.get(d.reason, 0) + 1
-        if self._pending is not None:
-            for mask, reason in self._pending[1]:
-                counts[reason] = counts.get(reason, 0) + int(np.count_nonzero(mask))
-        return counts
-
-    def __repr__(self) -> str:
-        n = sum(len(h) for h in self.heard)
-        return f"Delivery(listeners={len(self.heard)}, heard={n}, dropped={len(self.dropped)})"
-
-
-def received_volume(
-    volume: Any, distance_m: Any, db_per_doubling: float = 6.0, reference_m: float = 1.0
-) -> np.ndarray:
-    """Volume (percent) at which a message said at `volume` arrives `distance_m` metres away.
-
-    Falls `db_per_doubling` dB (amplitude) per doubling of distance beyond `reference_m`
-    (RCSSServerMJ: 6 dB, 1 m, i.e. roughly volume / distance).
-    """
-    d = np.maximum(np.asarray(distance_m, dtype=np.float64), reference_m)
-    return np.asarray(volume, dtype=np.float64) * pm.power(
-        10.0, -db_per_doubling * pm.log2(d / reference_m) / 20.0
-    )
-
-
-def loss_probability(
-    received: Any,
-    max_volume: float = 100.0,
-    midpoint_m: float = 50.0,
-    db_per_doubling: float = 6.0,
-    reference_m: float = 1.0,
-) -> np.ndarray:
-    """`mj`: probability that a message arriving at volume `received` is lost.
-
-    RCSSServerMJ's distance-based loss p = 0.5 tanh(pi d / midpoint - pi) + 0.5, evaluated at
-    the distance from which a max-volume message would arrive this loud (so for volume 100 it
-    is the true distance: 25 m 4 %, 40 m 22 %, 50 m 50 %, 60 m 78 %, 75 m 96 %).
-    """
-    rec = np.asarray(received, dtype=np.float64)
-    with np.errstate(divide="ignore"):
-        d_eff = reference_m * pm.exp2(-20.0 * pm.log10(rec / max_volume) / db_per_doubling)
-    return 0.5 * pm.tanh(math.pi * d_eff / midpoint_m - math.pi) + 0.5
-
-
-def hearing_capacity_trace(
-    arrivals: Sequence[int], capacity: HearingCapacity | None = None
-) -> list[int]:
-    """How many messages of one sender class (teammates or opponents) one listener hears.
-
-    `arrivals[t]`: messages of that class arriving in cycle t (within range). Returns the
-    number heard in each cycle. Same rule as the channel: the counter starts at `maximum`,
-    gains `increment` at the start of every cycle (capped), and each message heard needs and
-    costs `cost`; messages beyond that are dropped in arrival order. Default: the league's
-    HearingCapacity(maximum=2, increment=1, cost=2).
-    """
-    if capacity is None:
-        capacity = HearingCapacity()
-    cap = capacity.maximum
-    out = []
-    for a in arrivals:
-        cap = min(cap + capacity.increment, capacity.maximum)
-        k = min(int(a), cap // capacity.cost)
-        cap -= k * capacity.cost
-        out.append(k)
-    return out
+    speakers: np.ndarray
+    texts: np.ndarray
+    illegal: list[Drop]
+    chunks: list[tuple[np.ndarray, str]]
+    rel: tuple[np.ndarray, np.ndarray]
+    dist: np.ndarray
+    headings: np.ndarray
+    masks: np.ndarray
+    in_range: np.ndarray | None
 
 
 class Channel:
@@ -452,11 +275,15 @@ class Channel:
         headings: Any,
         rng: np.random.Generator,
     ) -> Delivery:
+        """Who hears which of this cycle's legal messages: the arrival order and the hearing
+        range here, then the profile's hearing model: `_hear_by_loudness` where the volume
+        falls with distance (`mj`), else `_hear_by_capacity` (`simspark`)."""
         prof = self.profile
         n = self.n_agents
         n_spk = len(speakers)
         spk = np.asarray(speakers, dtype=np.intp)
         text_arr = np.array(texts, dtype=object)
+        by_volume = prof.attenuation_db_per_doubling > 0.0
         if n_spk > 1:
             if prof.arrival_order == "shuffle":
                 perm = rng.permutation(n_spk)
@@ -464,7 +291,7 @@ class Channel:
                 perm = np.argsort(spk, kind="stable")
             spk = spk[perm]
             text_arr = text_arr[perm]
-            if prof.attenuation_db_per_doubling > 0.0:
+            if by_volume:
                 volumes = [volumes[k] for k in perm.tolist()]
         pos = np.asarray(positions, dtype=np.float64)
         hd = np.asarray(headings, dtype=np.float64)
@@ -475,95 +302,61 @@ class Channel:
         x, y = pos[:, 0], pos[:, 1]
         rel = (x[spk][:, None] - x, y[spk][:, None] - y)  # listener -> speaker, (S, N) each
         dist = np.hypot(*rel)
-        # Rows of the speakers: [self, same team, teammate (not self), opponent] x (S, N).
-        masks = self._masks[:, spk]
-        is_self, same = masks[0], masks[1]
         chunks: list[tuple[np.ndarray, str]] = []
-        everyone = _max(dist, axis=None) <= prof.hearing_range_m  # (False for NaN)
-        if everyone:
-            in_range = audible = None  # audible: all but self (built below if needed)
-            by_class = masks[2:]  # teammates, opponents: all audible
+        if _max(dist, axis=None) <= prof.hearing_range_m:  # everyone (False for NaN)
+            in_range = None
         else:
             in_range = dist <= prof.hearing_range_m
-            audible = in_range & ~is_self
-            by_class = None
             if not in_range.all():
                 chunks.append((~in_range, REASON_OUT_OF_RANGE))
+        # Rows of the speakers: [self, same team, teammate (not self), opponent] x (S, N).
+        routing = _Routing(spk, text_arr, illegal, chunks, rel, dist, hd, self._masks[:, spk],
+                           in_range)
+        if by_volume:
+            return self._hear_by_loudness(routing, volumes, rng)
+        return self._hear_by_capacity(routing)
 
-        if prof.attenuation_db_per_doubling > 0.0:
-            # mj: loudest-first ranking, random loss of the quieter ones. Ranked by the
-            # equivalent distance d_eff (the distance from which a max-volume message arrives
-            # as loud), which orders like the received volume and feeds the loss model.
-            if audible is None:
-                audible = ~is_self
-            att = prof.attenuation_db_per_doubling
-            ref = prof.reference_distance_m
-            doublings = pm.log2(np.maximum(dist, ref) * (1.0 / ref))
-            vol_term = (20.0 / att) * pm.log10(np.asarray(volumes) * (1.0 / prof.max_volume))
-            d_eff = ref * pm.exp2(doublings - vol_term[:, None])
-            order = np.argsort(np.where(audible, d_eff, np.inf), axis=0, kind="stable")
-            rank = np.argsort(order, axis=0)  # inverse permutation, column by column
-            loud = audible & (rank < prof.always_heard)
-            if math.isfinite(prof.loss_midpoint_m):
-                p_loss = 0.5 * pm.tanh(d_eff * (math.pi / prof.loss_midpoint_m) - math.pi) + 0.5
-                survive = audible & (loud | (rng.random(dist.shape) >= p_loss))
-            else:
-                survive = audible
-            lost = audible & ~survive
-            if lost.any():
-                chunks.append((lost, REASON_LOST))
-            heard = survive
-            sort_key = rank + 1
-            if not prof.self_echo:
-                # fast path: walk each listener's column in loudness order
-                ranked = np.take_along_axis(survive, order, axis=0)
-                kept = ranked & (np.cumsum(ranked, axis=0) <= prof.max_heard)
-                if not np.array_equal(kept, ranked):
-                    r, c = np.nonzero(ranked & ~kept)
-                    over = np.zeros_like(heard)
-                    over[order[r, c], c] = True
-                    chunks.append((over, REASON_MAX_HEARD))
-                li, r = np.nonzero(kept.T)
-                return self._assemble(
-                    text_arr, illegal, spk, chunks, rel, hd, is_self, same, order[r, li], li
-                )
+    def _hear_by_loudness(
+        self, routing: _Routing, volumes: list[float], rng: np.random.Generator
+    ) -> Delivery:
+        """`mj`: loudest-first ranking, random loss of the quieter ones. Ranked by the
+        equivalent distance d_eff (the distance from which a max-volume message arrives as
+        loud), which orders like the received volume and feeds the loss model."""
+        prof = self.profile
+        n = self.n_agents
+        masks, dist, chunks = routing.masks, routing.dist, routing.chunks
+        is_self = masks[0]
+        audible = ~is_self if routing.in_range is None else routing.in_range & ~is_self
+        att = prof.attenuation_db_per_doubling
+        ref = prof.reference_distance_m
+        doublings = pm.log2(np.maximum(dist, ref) * (1.0 / ref))
+        vol_term = (20.0 / att) * pm.log10(np.asarray(volumes) * (1.0 / prof.max_volume))
+        d_eff = ref * pm.exp2(doublings - vol_term[:, None])
+        order = np.argsort(np.where(audible, d_eff, np.inf), axis=0, kind="stable")
+        rank = np.argsort(order, axis=0)  # inverse permutation, column by column
+        loud = audible & (rank < prof.always_heard)
+        if math.isfinite(prof.loss_midpoint_m):
+            p_loss = 0.5 * pm.tanh(d_eff * (math.pi / prof.loss_midpoint_m) - math.pi) + 0.5
+            survive = audible & (loud | (rng.random(dist.shape) >= p_loss))
         else:
-            # simspark: range, then per-listener capacity in arrival order, per sender class
-            # (axis 0: teammates, opponents).
-            cap = prof.capacity
-            if by_class is None:
-                by_class = in_range & masks[2:]  # (2, S, N)
-            if cap is not None:
-                ok = by_class & (by_class.cumsum(axis=1) <= (self._cap // cap.cost)[:, None])
-                self._cap -= cap.cost * _add(ok, axis=1)
-                over = by_class ^ ok  # ok is within by_class: the ones over capacity
-                by_class = ok
-                if _any(over, axis=None):
-                    chunks.append((over[0] | over[1], REASON_CAPACITY))
-            # Per listener: own message, then teammates', then opponents', each in arrival
-            # order: the transposed (3S, N) stack of those masks lists them in that order.
-            blocks = np.concatenate(
-                (is_self[None], by_class) if prof.self_echo else by_class
-            ).reshape(-1, n)
-            li, si = blocks.T.nonzero()
-            if li.size:
-                si %= n_spk
-                counts = np.bincount(li, minlength=n)
-                if _max(counts) > prof.max_heard:
-                    within = np.arange(li.size) - (np.cumsum(counts) - counts)[li]
-                    keep = within < prof.max_heard
-                    over = np.zeros_like(is_self)
-                    over[si[~keep], li[~keep]] = True
-                    chunks.append((over, REASON_MAX_HEARD))
-                    li = li[keep]
-                    si = si[keep]
-            return self._assemble(
-                text_arr, illegal, spk, chunks, rel, hd, is_self, same, si, li, True
-            )
-        if prof.self_echo:
-            heard = heard | is_self
-        sort_key = np.where(is_self, -1, sort_key)
-
+            survive = audible
+        lost = audible & ~survive
+        if lost.any():
+            chunks.append((lost, REASON_LOST))
+        if not prof.self_echo:
+            # fast path: walk each listener's column in loudness order
+            ranked = np.take_along_axis(survive, order, axis=0)
+            kept = ranked & (np.cumsum(ranked, axis=0) <= prof.max_heard)
+            if not np.array_equal(kept, ranked):
+                r, c = np.nonzero(ranked & ~kept)
+                over = np.zeros_like(survive)
+                over[order[r, c], c] = True
+                chunks.append((over, REASON_MAX_HEARD))
+            li, r = np.nonzero(kept.T)
+            return self._assemble(routing, order[r, li], li)
+        # A speaker that hears itself: its own message first, then the others by loudness.
+        heard = survive | is_self
+        sort_key = np.where(is_self, -1, rank + 1)
         li, si = np.nonzero(heard.T)
         if li.size:
             order = np.lexsort((sort_key[si, li], li))
@@ -578,39 +371,66 @@ class Channel:
                 chunks.append((over, REASON_MAX_HEARD))
                 li = li[keep]
                 si = si[keep]
-        return self._assemble(text_arr, illegal, spk, chunks, rel, hd, is_self, same, si, li)
+        return self._assemble(routing, si, li)
+
+    def _hear_by_capacity(self, routing: _Routing) -> Delivery:
+        """`simspark`: within range, then per-listener hearing capacity in arrival order, per
+        sender class (axis 0 of `by_class`: teammates, opponents)."""
+        prof = self.profile
+        n = self.n_agents
+        masks, chunks = routing.masks, routing.chunks
+        is_self = masks[0]
+        by_class = masks[2:] if routing.in_range is None else routing.in_range & masks[2:]
+        cap = prof.capacity
+        if cap is not None:
+            ok = by_class & (by_class.cumsum(axis=1) <= (self._cap // cap.cost)[:, None])
+            self._cap -= cap.cost * _add(ok, axis=1)
+            over = by_class ^ ok  # ok is within by_class: the ones over capacity
+            by_class = ok
+            if _any(over, axis=None):
+                chunks.append((over[0] | over[1], REASON_CAPACITY))
+        # Per listener: own message, then teammates', then opponents', each in arrival
+        # order: the transposed (3S, N) stack of those masks lists them in that order.
+        blocks = np.concatenate(
+            (is_self[None], by_class) if prof.self_echo else by_class
+        ).reshape(-1, n)
+        li, si = blocks.T.nonzero()
+        if li.size:
+            si %= len(routing.speakers)
+            counts = np.bincount(li, minlength=n)
+            if _max(counts) > prof.max_heard:
+                within = np.arange(li.size) - (np.cumsum(counts) - counts)[li]
+                keep = within < prof.max_heard
+                over = np.zeros_like(is_self)
+                over[si[~keep], li[~keep]] = True
+                chunks.append((over, REASON_MAX_HEARD))
+                li = li[keep]
+                si = si[keep]
+        return self._assemble(routing, si, li, True)
 
     def _assemble(
-        self,
-        texts: np.ndarray,
-        illegal: list[Drop],
-        spk: np.ndarray,
-        chunks: list,
-        rel: tuple[np.ndarray, np.ndarray],
-        hd: np.ndarray,
-        is_self: np.ndarray,
-        same: np.ndarray,
-        si: np.ndarray,
-        li: np.ndarray,
-        grouped: bool = False,
+        self, routing: _Routing, si: np.ndarray, li: np.ndarray, grouped: bool = False
     ) -> Delivery:
         """Build the Heard lists from (speaker slot, listener) pairs sorted per listener."""
+        rel, hd, masks = routing.rel, routing.headings, routing.masks
         ang = pm.arctan2(rel[1][si, li], rel[0][si, li]) - hd[li]
         ang = (ang + math.pi) % _TWO_PI - math.pi
         q = self.profile.direction_quantum_deg
         if q > 0.0:
             ang = np.trunc(ang * (180.0 / math.pi / q)) * (q * math.pi / 180.0)
-        pair_self = is_self[si, li]
+        pair_self = masks[0][si, li]
         ang[pair_self] = 0.0
+        spk = routing.speakers
         pairs = (
             li,
             spk[si],
-            texts[si],
+            routing.texts[si],
             ang,
             pair_self,
-            same[si, li],
+            masks[1][si, li],
         )
-        return Delivery(None, illegal, (spk, chunks), pairs, self.n_agents, grouped)
+        return Delivery(None, routing.illegal, (spk, routing.chunks), pairs, self.n_agents,
+                        grouped)
 
 
 def make_channel(

@@ -13,7 +13,7 @@ from collections.abc import Mapping
 import numpy as np
 
 import teamenv
-from teamenv.env import RewardInput
+from teamenv.rewards import RewardInput
 
 # Ball state leads env.state(): x, y, vx, vy; then 7 numbers per player: x, y, heading, ...
 BALL_X, BALL_Y, BALL_STATE_SIZE, PLAYER_STATE_SIZE = 0, 1, 4, 7

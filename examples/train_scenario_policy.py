@@ -1,3 +1,5 @@
+# Over 500 lines because an example is read top to bottom in one file: the tasks, training,
+# export and the evaluation against its baselines.
 """Train a small MLP player for a scenario against the ball-chasing team, export it as a torch-free .npz policy, and evaluate it on held-out seeds.
 
 Training: Stable-Baselines3 PPO (tanh MLP 64-64, observations normalised by VecNormalize) on

@@ -186,7 +186,61 @@ class Bodies:
             impacts: (n,) collision impulse magnitude (N*s) taken during the last cycle.
             rng: the env's numpy Generator (the only source of randomness).
             dt: cycle length (s).
+
+        The steps below run in this order, and so draw from ``rng`` in this order: falls from
+        collisions and pushes, kick starts, the walk (and falls from command jumps at step
+        boundaries), kick contact, odometry noise, fall timers.
         """
+        walk_cmd, kick_request, kick_power, kick_dir, impacts = self._checked(
+            walk_cmd, kick_request, kick_power, kick_dir, impacts, dt
+        )
+        any_down = self._n_down > 0
+        up = self.down_left <= 0.0 if any_down else self._all_true
+        fell, fell_any = self._topple(impacts, up, rng)
+        kicking, kick_active = self._start_kicks(
+            kick_request, kick_power, kick_dir, up, any_down, fell, fell_any
+        )
+        all_walk = not (any_down or fell_any or kick_active)
+        if all_walk:
+            walking = self._all_true
+        else:
+            walking = up
+            if fell_any:
+                walking = walking & ~fell
+            if kick_active:
+                walking = walking & ~kicking
+        delta, fell, fell_any = self._walk(walk_cmd, walking, all_walk, fell, fell_any, rng, dt)
+        kick_now, kick_distance, kick_direction = self._kick_contact(
+            kick_active, fell, fell_any, rng, dt
+        )
+        odometry = self._odometry(delta, rng)
+        fallen = self._fall_timers(any_down, fell, fell_any, dt)
+        kicking_after = self.kick_elapsed >= 0.0 if self._n_kicking else self._all_false
+        # = StepResult(...), without the frozen dataclass's nine object.__setattr__ calls
+        result = _object_new(StepResult)
+        result.__dict__.update(
+            delta_pose=delta,
+            velocity=self.velocity.copy(),
+            odometry=odometry,
+            kick_now=kick_now,
+            kick_distance=kick_distance,
+            kick_direction=kick_direction,
+            fallen=fallen.copy(),
+            can_act=~(fallen | kicking_after),
+            fell=fell.copy(),
+        )
+        return result
+
+    def _checked(
+        self,
+        walk_cmd: np.ndarray,
+        kick_request: np.ndarray,
+        kick_power: np.ndarray,
+        kick_dir: np.ndarray,
+        impacts: np.ndarray,
+        dt: float,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """``step``'s inputs as float (bool) arrays of the right shapes, and ``dt`` in range."""
         n = self.n
         walk_cmd = np.asarray(walk_cmd, dtype=np.float64)
         if walk_cmd.shape != (n, 3):
@@ -206,15 +260,17 @@ class Bodies:
         T = self._T
         if not 0.0 < dt <= T + _EPS:
             raise StepInputError("dt", dt, f"must lie in (0, step_period = {T}] s")
+        return walk_cmd, kick_request, kick_power, kick_dir, impacts
 
-        any_down = self._n_down > 0
-        up = self.down_left <= 0.0 if any_down else self._all_true
-        # ---- falls from collisions and pushes (decided at the start of the cycle)
+    def _topple(
+        self, impacts: np.ndarray, up: np.ndarray, rng: np.random.Generator
+    ) -> tuple[np.ndarray, bool]:
+        """Falls from collisions and pushes, decided at the start of the cycle: (fell, any)."""
         fell = self._all_false
         fell_any = False
         if impacts.max() > self._j_lo:
             prob = np.clip((impacts - self._j_lo) / max(self._j_hi - self._j_lo, _EPS), 0.0, 1.0)
-            fell = (impacts > self._j_lo) & up & (rng.random(n) < prob)
+            fell = (impacts > self._j_lo) & up & (rng.random(self.n) < prob)
             fell_any = bool(np.count_nonzero(fell))
         if self._pushed:
             spd = np.hypot(self._push[:, 0], self._push[:, 1])
@@ -223,33 +279,47 @@ class Bodies:
             fell_any = bool(np.count_nonzero(fell))
             self._push[:] = 0.0
             self._pushed = False
+        return fell, fell_any
 
-        # ---- kicks start
-        kicking = self._all_false
-        kick_active = False
-        if self._n_kicking or np.count_nonzero(kick_request):
-            start = kick_request & (kick_power > 0.0) & (self.kick_elapsed < 0.0)
-            if any_down:
-                start &= up
-            if fell_any:
-                start &= ~fell
-            if np.count_nonzero(start):
-                self.kick_elapsed[start] = 0.0
-                self.kick_power[start] = np.clip(kick_power[start], 0.0, 1.0)
-                self.kick_aim[start] = kick_dir[start]
-            kicking = self.kick_elapsed >= 0.0
-            kick_active = bool(np.count_nonzero(kicking))
-        all_walk = not (any_down or fell_any or kick_active)
-        if all_walk:
-            walking = self._all_true
-        else:
-            walking = up
-            if fell_any:
-                walking = walking & ~fell
-            if kick_active:
-                walking = walking & ~kicking
+    def _start_kicks(
+        self,
+        kick_request: np.ndarray,
+        kick_power: np.ndarray,
+        kick_dir: np.ndarray,
+        up: np.ndarray,
+        any_down: bool,
+        fell: np.ndarray,
+        fell_any: bool,
+    ) -> tuple[np.ndarray, bool]:
+        """Start the requested kicks of players that can act: (kicking, any kicking)."""
+        if not (self._n_kicking or np.count_nonzero(kick_request)):
+            return self._all_false, False
+        start = kick_request & (kick_power > 0.0) & (self.kick_elapsed < 0.0)
+        if any_down:
+            start &= up
+        if fell_any:
+            start &= ~fell
+        if np.count_nonzero(start):
+            self.kick_elapsed[start] = 0.0
+            self.kick_power[start] = np.clip(kick_power[start], 0.0, 1.0)
+            self.kick_aim[start] = kick_dir[start]
+        kicking = self.kick_elapsed >= 0.0
+        return kicking, bool(np.count_nonzero(kicking))
 
-        # ---- walk: constant velocity within a step, eq. 4, switch at step boundaries
+    def _walk(
+        self,
+        walk_cmd: np.ndarray,
+        walking: np.ndarray,
+        all_walk: bool,
+        fell: np.ndarray,
+        fell_any: bool,
+        rng: np.random.Generator,
+        dt: float,
+    ) -> tuple[np.ndarray, np.ndarray, bool]:
+        """The walk: constant velocity within a step (eq. 4), the command taken at step
+        boundaries, where too big a change may topple. Updates ``velocity`` and ``phase``;
+        returns (delta_pose, fell, any fell)."""
+        T = self._T
         vel = self.velocity
         phase = self.phase
         boundary = phase + dt >= T - _EPS
@@ -266,7 +336,9 @@ class Bodies:
             jump = np.sqrt(np.sum((change / lim) ** 2, axis=1))
             risky = boundary & (jump > self.profile.command_jump_threshold)
             if np.count_nonzero(risky):
-                fell = fell | (risky & (rng.random(n) < self.profile.command_jump_fall_probability))
+                fell = fell | (
+                    risky & (rng.random(self.n) < self.profile.command_jump_fall_probability)
+                )
                 fell_any = bool(np.count_nonzero(fell))
             new_vel = apply_envelope(vel + np.clip(change, -self._dv, self._dv), *self._env)
             if (tb < dt - _EPS).any():  # a boundary inside the cycle: split it exactly
@@ -291,65 +363,66 @@ class Bodies:
             phase = np.where(moving, phase, T)
         self.phase = phase
         self.velocity = vel
+        return delta, fell, fell_any
 
-        # ---- kick contact and end (a fall cancels the kick)
+    def _kick_contact(
+        self,
+        kick_active: bool,
+        fell: np.ndarray,
+        fell_any: bool,
+        rng: np.random.Generator,
+        dt: float,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Kick contact and end (a fall cancels the kick): (kick_now, distance, direction)."""
+        n = self.n
         if fell_any:
             self.kick_elapsed[fell] = -1.0
         kick_now = np.zeros(n, dtype=bool)
         kick_distance = np.zeros(n)
         kick_direction = np.zeros(n)
-        if kick_active:
-            p = self.profile
-            e0 = self.kick_elapsed
-            prep = p.kick_prep_time
-            # e0 < 0 where no kick is in progress
-            if prep <= _EPS:
-                kick_now = (e0 >= 0.0) & (e0 <= _EPS)
-            else:
-                kick_now = (e0 <= prep + _EPS) & (e0 > max(prep + _EPS - dt, -0.5))
-            if np.count_nonzero(kick_now):
-                k = int(np.count_nonzero(kick_now))
-                dist = rng.normal(p.kick_distance_mean, p.kick_distance_std, k)
-                dist = np.clip(dist, p.kick_distance_min, p.kick_distance_max)
-                kick_distance[kick_now] = self.kick_power[kick_now] * dist
-                kick_direction[kick_now] = self.kick_aim[kick_now] + rng.normal(
-                    0.0, self._kick_sigma, k
-                )
-            e1 = e0 + dt
-            e1[(e0 < 0.0) | (e1 >= p.kick_duration - _EPS)] = -1.0
-            self.kick_elapsed = e1
-            self._n_kicking = int(np.count_nonzero(e1 >= 0.0))
-        else:
+        if not kick_active:
             self._n_kicking = 0
+            return kick_now, kick_distance, kick_direction
+        p = self.profile
+        e0 = self.kick_elapsed
+        prep = p.kick_prep_time
+        # e0 < 0 where no kick is in progress
+        if prep <= _EPS:
+            kick_now = (e0 >= 0.0) & (e0 <= _EPS)
+        else:
+            kick_now = (e0 <= prep + _EPS) & (e0 > max(prep + _EPS - dt, -0.5))
+        if np.count_nonzero(kick_now):
+            k = int(np.count_nonzero(kick_now))
+            dist = rng.normal(p.kick_distance_mean, p.kick_distance_std, k)
+            dist = np.clip(dist, p.kick_distance_min, p.kick_distance_max)
+            kick_distance[kick_now] = self.kick_power[kick_now] * dist
+            kick_direction[kick_now] = self.kick_aim[kick_now] + rng.normal(
+                0.0, self._kick_sigma, k
+            )
+        e1 = e0 + dt
+        e1[(e0 < 0.0) | (e1 >= p.kick_duration - _EPS)] = -1.0
+        self.kick_elapsed = e1
+        self._n_kicking = int(np.count_nonzero(e1 >= 0.0))
+        return kick_now, kick_distance, kick_direction
 
-        # ---- odometry
+    def _odometry(self, delta: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+        """What the walking engine believes it moved: scaled, with per-channel noise."""
         odometry = delta * self._odo_scale
         if self._odo_noisy:
-            odometry *= 1.0 + self._odo_noise * rng.standard_normal((n, 3))
+            odometry *= 1.0 + self._odo_noise * rng.standard_normal((self.n, 3))
+        return odometry
 
-        # ---- fallen / get-up timers
-        if any_down or fell_any:
-            left = self.down_left - dt
-            if fell_any:
-                left[fell] = self._down_time
-            left[left <= _EPS] = 0.0
-            self.down_left = left
-            fallen = left > 0.0
-            self._n_down = int(np.count_nonzero(fallen))
-        else:
-            fallen = self._all_false
-        kicking_after = self.kick_elapsed >= 0.0 if self._n_kicking else self._all_false
-        # = StepResult(...), without the frozen dataclass's nine object.__setattr__ calls
-        result = _object_new(StepResult)
-        result.__dict__.update(
-            delta_pose=delta,
-            velocity=vel.copy(),
-            odometry=odometry,
-            kick_now=kick_now,
-            kick_distance=kick_distance,
-            kick_direction=kick_direction,
-            fallen=fallen.copy(),
-            can_act=~(fallen | kicking_after),
-            fell=fell.copy(),
-        )
-        return result
+    def _fall_timers(
+        self, any_down: bool, fell: np.ndarray, fell_any: bool, dt: float
+    ) -> np.ndarray:
+        """Count the fallen players' down time; start it for the new falls. Returns fallen."""
+        if not (any_down or fell_any):
+            return self._all_false
+        left = self.down_left - dt
+        if fell_any:
+            left[fell] = self._down_time
+        left[left <= _EPS] = 0.0
+        self.down_left = left
+        fallen = left > 0.0
+        self._n_down = int(np.count_nonzero(fallen))
+        return fallen

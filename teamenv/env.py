@@ -1,10 +1,17 @@
-"""The PettingZoo ParallelEnv: a thin shell over teamenv.sim.Simulation."""
+# Over 500 lines because the class docstring is the env's API reference (every action and
+# observation entry of both modes and formats, rewards, scenarios, infos, timing: ~95 lines)
+# and the caller's actions are checked here, next to the API they enter by.
+"""The PettingZoo ParallelEnv: a thin shell over ``teamenv.sim.Simulation``.
+
+It checks the caller's arguments and actions, steps the simulation and returns observations,
+rewards, terminations and infos. The team plugins that drive whole sides are hosted by
+``teamenv.team_host``; rewards come from ``teamenv.rewards`` and infos from ``teamenv.infos``.
+"""
 
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, replace
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -14,47 +21,22 @@ import locomotion
 from teamenv import spaces as tspaces
 from teamenv.actions import ActionParser
 from teamenv.capabilities import DEFAULT_LOCOMOTION_PROFILE
-from teamenv.config import (
-    PerceptionConfig,
-    PhysicsConfig,
-    RulesConfig,
-    build_config,
-    perception_config,
-)
-from teamenv.errors import ActionError, ConfigError, TeamFault, value_repr
+from teamenv.config import PerceptionConfig, PhysicsConfig, RulesConfig, build_config
+from teamenv.errors import ActionError, ConfigError, value_repr
 from teamenv.field import FieldSpec, field_preset
-from teamenv.lazy import LazyInfos, LazyObservations
-from teamenv.rewards import RewardTerms, reward_weights
+from teamenv.infos import step_infos
+from teamenv.lazy import LazyObservations
+from teamenv.observation_mode import OBSERVATION_MODES, ObservationMode
+from teamenv.rewards import CycleRewards, RewardFn, reward_weights
+from teamenv.rewards import RewardInput as RewardInput  # its old home, for reward_fn authors
 from teamenv.scenarios import Scenario, ScenarioRun, get_scenario
 from teamenv.sim.perception import ObservationRows
-from teamenv.sim.playmode import PlayMode
 from teamenv.sim.simulation import SIM_PHASES, Commands, CycleReport, Simulation
-from teamenv.teams import make_team, team_context
+from teamenv.team_host import TeamHost
+from teamenv.teams import SIDES, team_context
 
-SIDES = ("left", "right")
-OBSERVATION_MODES = ("state", "vision")
 #: Keys of ``SoccerParallelEnv.timings()``, in the order of a cycle (see its docstring).
 TIMING_PHASES = ("actions", "team_left", "team_right", *SIM_PHASES, "other")
-
-
-@dataclass(frozen=True)
-class RewardInput:
-    """What a reward function sees each cycle (all world-frame; team 0 is left).
-
-    ``default`` holds the built-in goal rewards: +1 to every agent of a scoring team, -1 to
-    every agent of the other, 0 otherwise.
-    """
-
-    agents: tuple[str, ...]
-    report: CycleReport
-    state: np.ndarray
-    previous_state: np.ndarray
-    play_mode: str
-    attack_sign: tuple[float, float]
-    default: Mapping[str, float]
-
-
-RewardFn = Callable[[RewardInput], Mapping[str, float]]
 
 
 def seed_children(seed: int | None) -> list[np.random.SeedSequence]:
@@ -213,24 +195,14 @@ class SoccerParallelEnv(ParallelEnv):
             raise ConfigError(f"reward_fn: must be callable, got {reward_fn!r}")
         self.rules = build_config(RulesConfig, rules)
         self.physics = build_config(PhysicsConfig, physics)
-        if observation_mode == "vision":
-            self.perception: PerceptionConfig | None = perception_config(vision, perception)
-            self.vision: str | None = "simspark" if vision is None else vision
-        else:
-            for name, value in (("vision", vision), ("perception", perception)):
-                if value is not None:
-                    raise ConfigError(f"{name}: {value!r} given, but observation_mode is "
-                                      f"{observation_mode!r}; it applies to "
-                                      "observation_mode='vision' only")
-            self.perception = self.vision = None
-        self.observation_mode = observation_mode
+        #: What the agents observe: the one place the env, sim and teams read the mode from.
+        self.obs_mode = ObservationMode.build(observation_mode, vision, perception)
         self.observation_format = observation_format
         self.action_format = action_format
         self.strict = strict
         self.reward_fn = reward_fn
         self.reward_weights = reward_weights(reward)
         self.max_cycles = max_cycles
-        self.team_cycle_budget_s = team_cycle_budget_s
         self.render_mode = render_mode
         try:
             profile = locomotion.load_profile(locomotion_profile)
@@ -239,63 +211,41 @@ class SoccerParallelEnv(ParallelEnv):
         try:
             self.sim = Simulation(self.field, self.team_size, self.rules, self.physics, profile,
                                   channel, profile_phases=profile_phases,
-                                  perception=self.perception)
+                                  obs_mode=self.obs_mode)
         except (KeyError, ValueError) as exc:
             raise ConfigError(f"channel: {exc}") from exc
         self.channel_name = channel
         n = self.team_size
         self._scenario_run = None if self.scenario is None else \
             ScenarioRun(self.scenario, self.field, n)
-        self.reward_terms = None if self.reward_weights is None else RewardTerms(
-            self.reward_weights, n, float(profile.kick_reach), self.physics.cycle_s)
-        self._needs_state = reward_fn is not None or self.reward_terms is not None
+        self._rewards = CycleRewards(self.reward_weights, reward_fn, n,
+                                     float(profile.kick_reach), self.physics.cycle_s)
+        self._needs_state = self._rewards.needs_state
         self.player_names = [f"{side}_{k + 1}" for side in SIDES for k in range(n)]
         self._row = {name: i for i, name in enumerate(self.player_names)}
 
         channel_profile = self.sim.channel.profile
         self.parser = ActionParser(self.field, profile.command_low, profile.command_high,
                                    self.sim.channel, action_format, strict)
-        self._team_parser = ActionParser(self.field, profile.command_low, profile.command_high,
-                                         self.sim.channel, "dict", True)
-        if action_format == "dict":
-            act_space = tspaces.dict_action_space(self.field, profile.command_low,
-                                                  profile.command_high, channel_profile)
-        else:
-            act_space = tspaces.box_action_space()
-        if self.sim.vision is not None:
-            layout = self.sim.vision.layout
-            obs_space = tspaces.vision_dict_observation_space(layout, channel_profile) \
-                if observation_format == "dict" else tspaces.vision_box_observation_space(layout)
-        elif observation_format == "dict":
-            obs_space = tspaces.dict_observation_space(n, self.sim.heard_slots, channel_profile)
-        else:
-            obs_space = tspaces.box_observation_space(n, self.sim.heard_slots)
+        act_space, obs_space = self._spaces(profile)
 
-        # Teams (plugins) for sides not driven by the caller.
-        self.teams: dict[str, Any] = {}
-        for side, spec, config in (("left", left, left_config), ("right", right, right_config)):
-            if spec is None:
-                if config:
-                    raise ConfigError(f"{side}_config given but no {side} team is named")
-                continue
-            context = team_context(side, n, self.field, profile, self.physics,
-                                   channel_profile.name, observation_mode, self.perception,
-                                   self.vision)
-            self.teams[side] = make_team(spec, context, config)
-        self.team_agents = {side: [f"{side}_{k + 1}" for k in range(n)] for side in self.teams}
-        self._team_agent_sets = {side: set(a) for side, a in self.team_agents.items()}
-        self._team_rows = {side: [self._row[x] for x in a] for side, a in self.team_agents.items()}
+        #: The team plugins of the sides the caller does not drive, and what the env does
+        #: with them (``teamenv.team_host``).
+        self.team_host = TeamHost(
+            {"left": (left, left_config), "right": (right, right_config)},
+            lambda side: team_context(side, n, self.field, profile, self.physics,
+                                      channel_profile.name, self.obs_mode),
+            self._row,
+            ActionParser(self.field, profile.command_low, profile.command_high,
+                         self.sim.channel, "dict", True),
+            team_cycle_budget_s, profile_phases)
         benched = set() if self._scenario_run is None else \
             {self.player_names[i] for i in self._scenario_run.benched}
         #: Agents a scenario leaves off the pitch: idle, outside it, never in ``agents``.
         self.benched_agents = [a for a in self.player_names if a in benched]
         self._bench_rows = np.array([self._row[a] for a in self.benched_agents], dtype=np.intp)
         self.caller_agents = self._check_caller_agents(caller_agents, benched)
-        # The agents whose actions each team gives (its side less the caller's agents); the
-        # same list object as ``team_agents[side]`` when the team drives all of them.
-        self._team_fill = {side: a if not self.caller_agents else
-                           [x for x in a if x not in self.caller_agents]
-                           for side, a in self.team_agents.items()}
+        self.team_host.leave_to_caller(self.caller_agents)
 
         self.possible_agents = [a for a in self.player_names if a not in benched and (
             a.split("_")[0] not in self.teams or a in self.caller_agents)]
@@ -305,15 +255,75 @@ class SoccerParallelEnv(ParallelEnv):
         self._observation_spaces = {a: obs_space for a in self.possible_agents}
         self._state_space = tspaces.state_space(self.sim.state_size())
         self._obs_all: list[Any] = []
-        self._team_obs: dict[str, dict[str, Any]] = {}
         self._renderer: Any = None
-        self.team_time_s = {side: 0.0 for side in self.teams}
         self.last_report = CycleReport()
-        self.acting_side: str | None = None
         self.profile_phases = bool(profile_phases)
         # float() returns 0.0: with profiling off the clock is never read.
         self._clock = time.perf_counter if self.profile_phases else float
         self.reset_timings()
+
+    def _spaces(self, profile: locomotion.Profile) -> tuple[Any, Any]:
+        """Every agent's action and observation space, for the env's formats and mode."""
+        channel_profile = self.sim.channel.profile
+        if self.action_format == "dict":
+            act_space = tspaces.dict_action_space(self.field, profile.command_low,
+                                                  profile.command_high, channel_profile)
+        else:
+            act_space = tspaces.box_action_space()
+        if self.obs_mode.is_vision:
+            layout = self.sim.vision.layout
+            obs_space = tspaces.vision_dict_observation_space(layout, channel_profile) \
+                if self.observation_format == "dict" \
+                else tspaces.vision_box_observation_space(layout)
+        elif self.observation_format == "dict":
+            obs_space = tspaces.dict_observation_space(self.team_size, self.sim.heard_slots,
+                                                       channel_profile)
+        else:
+            obs_space = tspaces.box_observation_space(self.team_size, self.sim.heard_slots)
+        return act_space, obs_space
+
+    # -- the teams (``team_host``) -----------------------------------------------------------
+    @property
+    def teams(self) -> dict[str, Any]:
+        """The team plugins, by side (left first); a side the caller drives has none."""
+        return self.team_host.teams
+
+    @property
+    def team_agents(self) -> dict[str, list[str]]:
+        """The agents of each team's side, by side."""
+        return self.team_host.agents
+
+    @property
+    def team_time_s(self) -> dict[str, float]:
+        """Seconds each team's ``act()`` calls took, by side (not zeroed by
+        ``reset_timings``)."""
+        return self.team_host.time_s
+
+    @property
+    def team_cycle_budget_s(self) -> float | None:
+        """A team whose ``act()`` takes longer faults as "too_slow" (None: no budget)."""
+        return self.team_host.cycle_budget_s
+
+    @property
+    def acting_side(self) -> str | None:
+        """The side whose team's ``act()`` runs now, else None (who stalled a match)."""
+        return self.team_host.acting_side
+
+    # -- the observation mode (``obs_mode``) ------------------------------------------------
+    @property
+    def observation_mode(self) -> str:
+        """"state" or "vision" (``obs_mode.name``)."""
+        return self.obs_mode.name
+
+    @property
+    def vision(self) -> str | None:
+        """The vision profile's name in ``vision`` mode, else None (``obs_mode.vision``)."""
+        return self.obs_mode.vision
+
+    @property
+    def perception(self) -> PerceptionConfig | None:
+        """The camera of ``vision`` mode, else None (``obs_mode.perception``)."""
+        return self.obs_mode.perception
 
     # -- timing ----------------------------------------------------------------------------
     def timings(self) -> dict[str, float]:
@@ -334,17 +344,18 @@ class SoccerParallelEnv(ParallelEnv):
         """
         out = dict.fromkeys(TIMING_PHASES, 0.0)
         out.update(self._phase_s)
-        for phase, seconds in self.sim.phase_s.items():
-            out[phase] += seconds
+        for phase_s in (self.team_host.phase_s, self.sim.phase_s):
+            for phase, seconds in phase_s.items():
+                out[phase] += seconds
         out["other"] = max(0.0, self._total_s - sum(out.values()))
         out["total"] = self._total_s
         return out
 
     def reset_timings(self) -> None:
         """Zero the per-phase accounting of ``timings()`` (``team_time_s`` is kept)."""
-        self._phase_s = {"actions": 0.0, "team_left": 0.0, "team_right": 0.0,
-                         "perception": 0.0}
+        self._phase_s = {"actions": 0.0, "perception": 0.0}
         self._total_s = 0.0
+        self.team_host.reset_timings()
         self.sim.reset_timings()
 
     # -- PettingZoo API --------------------------------------------------------------------
@@ -378,11 +389,8 @@ class SoccerParallelEnv(ParallelEnv):
         if self._scenario_run is not None:
             self._scenario_run.start(self.sim, np.random.default_rng(scenario_seq))
         self.end_reason: str | None = None
-        for k, (side, team) in enumerate(self.teams.items()):
-            team_seed = _team_seed(team_seqs[k])
-            t0 = self._clock()
-            self._team_call(side, team.reset, team_seed)
-            self._phase_s["team_" + side] += self._clock() - t0
+        # The k-th team gets the k-th team seed: a lone right team gets the left one.
+        self.team_host.reset([_team_seed(seq) for seq in team_seqs[:len(self.teams)]])
         self.agents = list(self.possible_agents)
         self._episode_over = False
         self.last_report = CycleReport()
@@ -433,8 +441,7 @@ class SoccerParallelEnv(ParallelEnv):
         self.parser.fill(cmd, [self._row[a] for a in given], given, [actions[a] for a in given],
                          dropped)
         self._phase_s["actions"] += clock() - start
-        for side, team in self.teams.items():
-            self._team_actions(side, team, cmd)
+        self.team_host.act(cmd)
         if self._bench_rows.size:  # benched players stand still, whoever drives them
             self._idle_rows(cmd, self._bench_rows)
 
@@ -444,7 +451,9 @@ class SoccerParallelEnv(ParallelEnv):
         self._refresh_observations()
 
         agents = list(self.agents)
-        rewards = self._rewards(agents, report, state)
+        referee = self.sim.referee
+        rewards = self._rewards(agents, report, state, self._prev_state, referee.mode,
+                                referee.attack_sign)
         self._prev_state = state
         terminated = self.sim.referee.game_over
         truncated = self.max_cycles is not None and self.sim.cycle >= self.max_cycles
@@ -453,7 +462,7 @@ class SoccerParallelEnv(ParallelEnv):
         observations = self._agent_observations()
         terminations = dict.fromkeys(agents, terminated)
         truncations = dict.fromkeys(agents, truncated and not terminated)
-        infos = self._infos(agents, report, dropped)
+        infos = step_infos(agents, report, dropped, self.player_names, referee.mode)
         if self.end_reason is not None and (terminated or truncated):
             for a in agents:
                 infos[a]["end"] = self.end_reason
@@ -521,7 +530,7 @@ class SoccerParallelEnv(ParallelEnv):
 
     def _refresh_observations(self) -> None:
         flat = self.observation_format == "box"
-        if self.sim.vision is not None:  # one look per cycle, in the forms needed
+        if self.obs_mode.is_vision:  # one look per cycle, in the forms needed
             team_obs, flats = self.sim.observation_forms(dicts=bool(self.teams) or not flat,
                                                          flat=flat)
             self._obs_all = flats if flat else team_obs
@@ -531,13 +540,7 @@ class SoccerParallelEnv(ParallelEnv):
         else:
             self._obs_all = self.sim.observations(flat=flat, lazy=not flat)
             team_obs = self._obs_all
-        t0 = self._clock()
-        rows = self._team_rows
-        self._team_obs = {
-            side: dict(zip(agents, [team_obs[r] for r in rows[side]], strict=True))
-            for side, agents in self.team_agents.items()
-        }
-        self._phase_s["perception"] += self._clock() - t0
+        self.team_host.observe(team_obs)
 
     def _agent_observations(self) -> dict[str, Any]:
         t0 = self._clock()
@@ -548,46 +551,6 @@ class SoccerParallelEnv(ParallelEnv):
             out = {a: obs_all[self._row[a]] for a in self.agents}
         self._phase_s["perception"] += self._clock() - t0
         return out
-
-    def _team_call(self, side: str, fn: Callable, *args: Any) -> Any:
-        try:
-            return fn(*args)
-        except Exception as exc:  # a plugin's bug must not look like ours
-            raise TeamFault(side, "raised", f"{type(exc).__name__}: {exc}") from exc
-
-    def _team_actions(self, side: str, team: Any, cmd: Commands) -> None:
-        agents = self.team_agents[side]
-        self.acting_side = side
-        start = time.perf_counter()
-        actions = self._team_call(side, team.act, self._team_obs[side])
-        elapsed = time.perf_counter() - start
-        self.acting_side = None
-        self.team_time_s[side] += elapsed
-        if self.profile_phases:
-            self._phase_s["team_" + side] += elapsed
-        start = self._clock()
-        if self.team_cycle_budget_s is not None and elapsed > self.team_cycle_budget_s:
-            raise TeamFault(side, "too_slow", f"act() took {elapsed * 1e3:.1f} ms, budget "
-                            f"{self.team_cycle_budget_s * 1e3:.1f} ms")
-        if not isinstance(actions, Mapping):
-            raise TeamFault(side, "invalid_action", f"act() returned {type(actions).__name__}, "
-                            "expected a dict keyed by agent name")
-        driven = self._team_agent_sets[side]
-        extra = [a for a in actions if a not in driven]
-        if extra:
-            raise TeamFault(side, "invalid_action", f"act() returned actions for {extra}, which "
-                            f"it does not drive")
-        fill = self._team_fill[side]
-        if len(actions) == len(agents) and fill is agents:  # every agent (the usual case)
-            given, rows = agents, self._team_rows[side]
-        else:  # some agents missing, or the caller drives some of this side
-            given = [a for a in fill if a in actions]
-            rows = [self._row[a] for a in given]
-        try:
-            self._team_parser.fill(cmd, rows, given, [actions[a] for a in given], {})
-        except ActionError as exc:
-            raise TeamFault(side, "invalid_action", str(exc)) from exc
-        self._phase_s["actions"] += self._clock() - start
 
     def _scenario_end(self, report: CycleReport, terminated: bool,
                       truncated: bool) -> tuple[bool, bool]:
@@ -613,79 +576,6 @@ class SoccerParallelEnv(ParallelEnv):
         cmd.beam_request[rows] = False
         for row in rows.tolist():
             cmd.say[row] = ""
-
-    def _rewards(self, agents: list[str], report: CycleReport, state: np.ndarray | None) -> dict:
-        default = dict.fromkeys(agents, 0.0)
-        for event in report.referee:
-            if event.kind == "goal":
-                scorer = SIDES[event.team]
-                for a in agents:
-                    default[a] += 1.0 if a.startswith(scorer + "_") else -1.0
-        if self.reward_terms is None and self.reward_fn is None:
-            return default
-        reward_input = RewardInput(
-            agents=tuple(agents), report=report, state=state, previous_state=self._prev_state,
-            play_mode=self.sim.referee.mode.name,
-            attack_sign=tuple(self.sim.referee.attack_sign), default=default)
-        if self.reward_terms is not None:  # reward= first; reward_fn sees it as its default
-            default = self.reward_terms(reward_input)
-            if self.reward_fn is None:
-                return default
-            reward_input = replace(reward_input, default=default)
-        shaped = self.reward_fn(reward_input)
-        missing = [a for a in agents if a not in shaped]
-        if missing:
-            raise ConfigError(f"reward_fn: returned no reward for agents {missing}")
-        return {a: float(shaped[a]) for a in agents}
-
-    def _infos(self, agents: list[str], report: CycleReport, dropped: dict) -> dict:
-        infos: dict[str, dict] = {a: {} for a in agents}
-        if not agents:
-            return infos
-        names = self.player_names
-        for agent, problems in dropped.items():
-            if agent in infos:
-                infos[agent]["dropped"] = problems
-        for i in report.beams_refused:
-            if names[i] in infos:
-                infos[names[i]]["beam_refused"] = PlayMode(self.sim.referee.mode).name
-        for event in report.referee:
-            if event.kind == "goal":
-                for a in agents:
-                    infos[a]["goal"] = SIDES[event.team]
-        delivery = report.delivery
-        if delivery is None or not delivery.has_drops():
-            return infos
-        # Message drops (often hundreds a cycle when everybody speaks) are listed on first use.
-        return LazyInfos(infos, lambda base: _add_message_drops(base, names, report))
-
-
-def _add_message_drops(infos: dict[str, dict], names: list[str], report: CycleReport) -> None:
-    """Put each speaker's ``message_dropped`` list into ``infos`` (a plain dict's storage), in
-    the key order of an eagerly built info: dropped, beam_refused, message_dropped, goal. Each
-    list holds the speaker's drops in ``report.dropped`` order, one new dict per drop."""
-    speaker, listener, reason = report.delivery.drop_arrays()
-    if not speaker.size:
-        return
-    order = np.argsort(speaker, kind="stable")  # by speaker, each in report.dropped order
-    speaker = speaker[order]
-    named = np.array([*names, None], dtype=object)  # listener -1 (nobody) -> None
-    drops = [{"listener": who, "reason": why}
-             for who, why in zip(named[listener[order]].tolist(), reason[order].tolist(),
-                                 strict=True)]
-    starts = [0, *(np.flatnonzero(speaker[1:] != speaker[:-1]) + 1).tolist()]
-    ends = [*starts[1:], len(drops)]
-    get, n_names = dict.get, len(names)
-    for index, a, b in zip(speaker[starts].tolist(), starts, ends, strict=True):
-        info = get(infos, names[index]) if 0 <= index < n_names else None
-        if info is None:
-            continue
-        if "goal" in info:
-            goal = info.pop("goal")
-            info["message_dropped"] = drops[a:b]
-            info["goal"] = goal
-        else:
-            info["message_dropped"] = drops[a:b]
 
 
 def _choice(name: str, value: Any, allowed: tuple) -> None:

@@ -1,4 +1,5 @@
-"""Reward options of the env (``reward=``): goal, ball progress and possession terms, weighted.
+"""The env's rewards: the goal rewards, the weighted terms of ``reward=`` (goal, ball
+progress, possession) and the ``reward_fn=`` that shapes them last (``CycleRewards``).
 
 Every term is team-shared and zero-sum: each agent of a team gets the same value, and the
 other team's agents get its negative. Signs are from the agent's own team's view (it attacks
@@ -17,14 +18,39 @@ other team's agents get its negative. Signs are from the agent's own team's view
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
-from typing import Any
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from teamenv.errors import ConfigError
+from teamenv.teams import SIDES
+
+if TYPE_CHECKING:
+    from teamenv.sim.playmode import PlayMode
+    from teamenv.sim.simulation import CycleReport
 
 REWARD_TERMS = ("goal", "ball_progress", "possession")
+
+@dataclass(frozen=True)
+class RewardInput:
+    """What a reward function sees each cycle (all world-frame; team 0 is left).
+
+    ``default`` holds the built-in goal rewards: +1 to every agent of a scoring team, -1 to
+    every agent of the other, 0 otherwise.
+    """
+
+    agents: tuple[str, ...]
+    report: CycleReport
+    state: np.ndarray
+    previous_state: np.ndarray
+    play_mode: str
+    attack_sign: tuple[float, float]
+    default: Mapping[str, float]
+
+
+RewardFn = Callable[[RewardInput], Mapping[str, float]]
 
 #: Layout of ``Simulation.global_state``: ball x, y, vx, vy, then 7 values per player.
 _BALL, _PLAYERS, _PER_PLAYER = 0, 4, 7
@@ -67,7 +93,7 @@ class RewardTerms:
         self.cycle_s = cycle_s
 
     def __call__(self, reward_input: Any) -> dict[str, float]:
-        """Rewards per agent from a ``teamenv.env.RewardInput`` (its ``default`` holds the goal
+        """Rewards per agent from a ``RewardInput`` (its ``default`` holds the goal
         rewards; ``state``/``previous_state`` the world-frame global state)."""
         team_value = np.zeros(2)  # per team: left, right
         agents = reward_input.agents
@@ -103,3 +129,45 @@ class RewardTerms:
         if team is None or nearest[team] > self.kick_reach:
             return None
         return team
+
+
+class CycleRewards:
+    """Every agent's reward for one cycle, as the env's options ask: the goal rewards, the
+    weighted ``reward=`` terms instead when ``weights`` are given, then ``reward_fn`` on top
+    (its ``RewardInput.default`` holds what came before; its result is the reward).
+
+    ``needs_state``: whether the world state of each cycle must be passed (the terms and
+    ``reward_fn`` read it).
+    """
+
+    def __init__(self, weights: Mapping[str, float] | None, reward_fn: RewardFn | None,
+                 team_size: int, kick_reach: float, cycle_s: float) -> None:
+        self.terms = None if weights is None else RewardTerms(weights, team_size, kick_reach,
+                                                              cycle_s)
+        self.reward_fn = reward_fn
+        self.needs_state = reward_fn is not None or self.terms is not None
+
+    def __call__(self, agents: Sequence[str], report: CycleReport, state: np.ndarray | None,
+                 previous_state: np.ndarray | None, play_mode: PlayMode,
+                 attack_sign: Sequence[float]) -> dict[str, float]:
+        default = dict.fromkeys(agents, 0.0)
+        for event in report.referee:
+            if event.kind == "goal":
+                scorer = SIDES[event.team]
+                for a in agents:
+                    default[a] += 1.0 if a.startswith(scorer + "_") else -1.0
+        if self.terms is None and self.reward_fn is None:
+            return default
+        reward_input = RewardInput(
+            agents=tuple(agents), report=report, state=state, previous_state=previous_state,
+            play_mode=play_mode.name, attack_sign=tuple(attack_sign), default=default)
+        if self.terms is not None:  # reward= first; reward_fn sees it as its default
+            default = self.terms(reward_input)
+            if self.reward_fn is None:
+                return default
+            reward_input = replace(reward_input, default=default)
+        shaped = self.reward_fn(reward_input)
+        missing = [a for a in agents if a not in shaped]
+        if missing:
+            raise ConfigError(f"reward_fn: returned no reward for agents {missing}")
+        return {a: float(shaped[a]) for a in agents}

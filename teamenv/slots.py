@@ -102,7 +102,7 @@ def observation_slot_names(env: Any, agent: str | None = None) -> tuple[str, ...
     if agent is not None:
         env.observation_space(agent)  # raises ActionError for an unknown agent
     heard_slots = env.sim.heard_slots
-    if env.perception is None:
+    if not env.obs_mode.is_vision:
         return state_slot_names(env.team_size, heard_slots)
     return vision_slot_names(env.sim.vision.layout,
-                             landmarks(env.field, env.perception.landmark_kind).names)
+                             landmarks(env.field, env.obs_mode.perception.landmark_kind).names)

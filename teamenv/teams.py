@@ -8,16 +8,20 @@ or named directly as ``package.module:ClassName``. teamenv never imports ``strat
 from __future__ import annotations
 
 import importlib
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from importlib.metadata import entry_points
-from typing import Any, Mapping, Protocol, runtime_checkable
+from typing import Any, Protocol, runtime_checkable
 
 from teamenv.capabilities import BodyCapabilities, body_capabilities, default_body
 from teamenv.config import PerceptionConfig, PhysicsConfig
 from teamenv.errors import TeamLoadError
 from teamenv.field import FieldSpec
+from teamenv.observation_mode import STATE_MODE, ObservationMode
 
 ENTRY_POINT_GROUP = "teamenv.teams"
+#: The two sides, team 0 first; agent ``{side}_{k}`` is uniform number k of that side.
+SIDES = ("left", "right")
 
 
 @dataclass(frozen=True)
@@ -84,21 +88,21 @@ class TeamContext:
 
 
 def team_context(side: str, team_size: int, field: FieldSpec, profile: Any,
-                 physics: PhysicsConfig, channel: str, observation_mode: str,
-                 perception: PerceptionConfig | None = None,
-                 vision: str | None = None) -> TeamContext:
+                 physics: PhysicsConfig, channel: str,
+                 obs_mode: ObservationMode = STATE_MODE) -> TeamContext:
     """The context the env gives team ``side``: agents ``{side}_1`` ..., the body's
     capabilities of locomotion ``profile`` (``teamenv.capabilities.body_capabilities``), the
-    cycle, ball size and drag of ``physics``, and in ``vision`` mode the camera ``perception``
-    (``vision`` its profile name)."""
+    cycle, ball size and drag of ``physics``, and what the agents observe (``obs_mode``: in
+    ``vision`` mode its profile name, camera and landmark table)."""
+    perception = obs_mode.perception
     return TeamContext(side=side, agents=tuple(f"{side}_{k + 1}" for k in range(team_size)),
                        team_size=team_size, field=field, cycle_s=physics.cycle_s,
-                       channel=channel, observation_mode=observation_mode, seed=0,
+                       channel=channel, observation_mode=obs_mode.name, seed=0,
                        body=body_capabilities(profile), ball_radius=physics.ball_radius,
                        ball_linear_drag=physics.ball_linear_drag,
                        ball_rolling_decel=physics.ball_rolling_decel,
-                       perception=perception, vision=vision,
-                       landmark_kind=None if perception is None else perception.landmark_kind)
+                       perception=perception, vision=obs_mode.vision,
+                       landmark_kind=perception.landmark_kind if obs_mode.is_vision else None)
 
 
 @runtime_checkable

@@ -1,5 +1,12 @@
+# Over 500 lines because the walker is one controller whose parts are tuned and tested together:
+# its parameters, the preview-control gains, the pattern generator with its IK, the measurement
+# its feedback reads (``Observer``, also used by the league controller) and the loop that runs
+# it; splitting them would scatter one algorithm over several files.
 """A 3D-LIPM walking pattern generator + leg IK + joint PD for the T1 (seed 001 sec. 4.2),
-closed by measured feedback (capture-point foot placement, torso attitude at ankles and hips)."""
+closed by measured feedback (capture-point foot placement, torso attitude at ankles and hips).
+
+``walk_mujoco`` and ``walk_brax`` run it on the T1 through one control loop (``_control_loop``);
+only the physics differs."""
 
 from __future__ import annotations
 
@@ -471,34 +478,14 @@ def walk_mujoco(
 
     Returns (times (k,) s, torso poses (k, 3) x m, y m, yaw rad, fell: bool).
     """
-    mujoco = require("mujoco")
-    from .mujoco_sim import _pd, settle_mujoco
+    from .mujoco_sim import settle_mujoco
 
     t1 = _gains(t1, params)
-    m = t1.model
     data = settle_mujoco(t1, settle_s)
     walker = LipmWalker(t1, params)
     observe = Observer(t1)
-    q_ref = t1.q_stance[t1.act_qadr]
-    dt = m.opt.timestep
-    every = int(round(params.dt / dt))
-    times, poses = [], []
-    fell = False
-    for i in range(int(round(seconds / dt))):
-        if i % every == 0:
-            obs = observe(data.qpos, data.qvel)
-            times.append(i * dt)
-            poses.append(obs["pose"])
-            if obs["height"] < TORSO_STANDING_MIN:
-                fell = True
-                break
-            cmd = command_fn(i * dt, obs["pose"])
-            if cmd is None:
-                break
-            q_ref = walker.update(np.asarray(cmd, float), obs if feedback else None)
-        _pd(t1, data, q_ref)
-        mujoco.mj_step(m, data)
-    return np.array(times), np.array(poses), fell
+    return _control_loop(_MujocoPhysics(t1, data, params, seconds), walker, observe,
+                         command_fn, feedback)
 
 
 def walk_brax(
@@ -523,21 +510,82 @@ def walk_brax(
     if b.every != every:
         raise ValueError(f"BraxT1.every = {b.every} must equal params.dt / timestep = {every}")
     state = b.settle(settle_s)
-    g = params.pd_gain_scale
     walker = LipmWalker(_gains(t1, params), params)
     observe = Observer(t1)
+    return _control_loop(_BraxPhysics(b, state, params, seconds), walker, observe, command_fn,
+                         feedback)
+
+
+def _control_loop(physics, walker: LipmWalker, observe: Observer, command_fn,
+                  feedback: bool):
+    """The walk's closed loop, the same for either engine: each control period measure the
+    robot, stop when it fell or ``command_fn`` ends the run, let the walker plan the joint
+    targets and the engine's ``physics`` run them until the next period.
+
+    ``physics``: ``periods`` (how many control periods the run lasts), ``time(k)`` (s, the
+    start of period k), ``state()`` (qpos, qvel) and ``advance(q_ref)``."""
     times, poses = [], []
     fell = False
-    for i in range(int(round(seconds / params.dt))):
-        obs = observe(np.asarray(state.q), np.asarray(state.qd))
-        times.append(i * params.dt)
+    for k in range(physics.periods):
+        t = physics.time(k)
+        obs = observe(*physics.state())
+        times.append(t)
         poses.append(obs["pose"])
         if obs["height"] < TORSO_STANDING_MIN:
             fell = True
             break
-        cmd = command_fn(i * params.dt, obs["pose"])
+        cmd = command_fn(t, obs["pose"])
         if cmd is None:
             break
         q_ref = walker.update(np.asarray(cmd, float), obs if feedback else None)
-        state = b.run_to(state, q_ref, g)
+        physics.advance(q_ref)
     return np.array(times), np.array(poses), fell
+
+
+class _MujocoPhysics:
+    """Native MuJoCo under joint PD: one control period is ``params.dt / timestep`` physics
+    steps; a run of ``seconds`` is that many physics steps, so its last period may be short."""
+
+    def __init__(self, t1: T1Model, data: Any, params: WalkParams, seconds: float) -> None:
+        self.mj = require("mujoco")
+        from .mujoco_sim import _pd
+
+        self._pd = _pd
+        self.t1, self.data = t1, data
+        self.dt = t1.model.opt.timestep
+        self.every = int(round(params.dt / self.dt))
+        self.steps = int(round(seconds / self.dt))
+        self.periods = -(-self.steps // self.every)  # the steps that start a period
+        self.step_index = 0
+
+    def time(self, k: int) -> float:
+        return (k * self.every) * self.dt
+
+    def state(self) -> tuple[np.ndarray, np.ndarray]:
+        return self.data.qpos, self.data.qvel
+
+    def advance(self, q_ref: np.ndarray) -> None:
+        m = self.t1.model
+        for _ in range(min(self.every, self.steps - self.step_index)):
+            self._pd(self.t1, self.data, q_ref)
+            self.mj.mj_step(m, self.data)
+            self.step_index += 1
+
+
+class _BraxPhysics:
+    """brax's generalized pipeline: one jitted call runs a whole control period."""
+
+    def __init__(self, brax_t1: Any, state: Any, params: WalkParams, seconds: float) -> None:
+        self.brax_t1, self.brax_state = brax_t1, state
+        self.dt = params.dt
+        self.gain = params.pd_gain_scale
+        self.periods = int(round(seconds / params.dt))
+
+    def time(self, k: int) -> float:
+        return k * self.dt
+
+    def state(self) -> tuple[np.ndarray, np.ndarray]:
+        return np.asarray(self.brax_state.q), np.asarray(self.brax_state.qd)
+
+    def advance(self, q_ref: np.ndarray) -> None:
+        self.brax_state = self.brax_t1.run_to(self.brax_state, q_ref, self.gain)

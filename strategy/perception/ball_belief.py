@@ -39,12 +39,12 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from strategy.perception.clustering import cluster_objects
 from strategy.perception.filtering import (
     FilteredEstimate,
     FilterParams,
     SightingError,
     SightingWindow,
-    cluster_objects,
 )
 
 BallSource = Literal["own", "heard", "none"]

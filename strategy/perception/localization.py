@@ -1,3 +1,6 @@
+# Over 500 lines because it is one algorithm: the docstring below is its specification (~90
+# lines), and BatchLocalizer's steps (predict, sightings, likelihood, correct, resample,
+# sensor reset) work on one set of (agents, particles) arrays; its parameters stay beside it.
 """Monte Carlo localization (seed 000 §3 / 001 §3) for ``vision`` mode, batched over agents.
 
 Each agent keeps ``n_particles`` poses ``(x, y, psi)`` in its team frame with log-weights.

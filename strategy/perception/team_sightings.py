@@ -19,13 +19,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from strategy.perception.ball_belief import BallBelief, BallEstimate, RollModel, _Basis
-from strategy.perception.filtering import (
-    FilterParams,
-    MultiEstimate,
-    MultiObjectWindow,
-    clique_means,
-    cluster_objects,
-)
+from strategy.perception.clustering import clique_means, cluster_objects
+from strategy.perception.filtering import FilterParams, MultiEstimate, MultiObjectWindow
 
 
 class TeamSightings:

@@ -11,8 +11,9 @@ from typing import Any
 
 import numpy as np
 
+from strategy.behaviours.direct import kick_toward, walk_to
 from strategy.perception.worldmodel import WorldModel
-from strategy.teams.common import Beliefs, kick_toward, walk_to
+from strategy.teams.common import Beliefs
 from teamenv import PlayMode
 from teamenv.team_config import in_range, team_config
 from teamenv.teams import TeamContext

@@ -8,7 +8,8 @@ from typing import Any
 
 import numpy as np
 
-from strategy.teams.common import Beliefs, walk_to
+from strategy.behaviours.direct import walk_to
+from strategy.teams.common import Beliefs
 from teamenv.team_config import in_range, team_config
 from teamenv.teams import TeamContext
 

@@ -32,6 +32,7 @@ from teamenv.actions import ActionParser
 from teamenv.env import team_seeds
 from teamenv.errors import ActionError, ConfigError, TeamFault
 from teamenv.match import Goal, MatchOptions, MatchResult
+from teamenv.observation_mode import ObservationMode
 from teamenv.sim.simulation import Commands
 from teamenv.teams import TeamContext, make_team, team_version
 from teamenv.teams import team_context as env_team_context
@@ -127,12 +128,12 @@ def team_context(side: str, team_size: int) -> TeamContext:
     """What a team is told: the env's context for ``vision`` mode, ``mj`` profile and channel,
     on ``mj7v7`` (walk range and kick reach of the ``t1_mj`` profile, the env's ball drag)."""
     from locomotion import load_profile
-    from teamenv.config import VISION_PROFILES, PhysicsConfig
+    from teamenv.config import PhysicsConfig
     from teamenv.field import field_preset
 
     return env_team_context(side, team_size, field_preset(FIELD),
-                            load_profile(LOCOMOTION_PROFILE), PhysicsConfig(), "mj", "vision",
-                            VISION_PROFILES["mj"], "mj")
+                            load_profile(LOCOMOTION_PROFILE), PhysicsConfig(), "mj",
+                            ObservationMode.build("vision", "mj"))
 
 
 @dataclass

@@ -13,8 +13,9 @@ import numpy as np
 import comms
 import locomotion
 from teamenv.box_layout import HEARD_DIM
-from teamenv.config import PerceptionConfig, PhysicsConfig, RulesConfig
+from teamenv.config import PhysicsConfig, RulesConfig
 from teamenv.field import FieldSpec
+from teamenv.observation_mode import STATE_MODE, ObservationMode
 from teamenv.sim.perception import StatePerception
 from teamenv.sim.referee import Referee, RefereeEvent
 from teamenv.sim.vision import VisionPerception
@@ -78,16 +79,17 @@ class Simulation:
     ``reset_timings()``; with ``profile_phases=False`` the clock is not read and every entry
     stays 0.
 
-    ``perception``: None for ``state`` observations, a ``PerceptionConfig`` for ``vision``
-    (``self.vision`` then builds them). In vision mode ``odometry`` (n, 3) is the walk engine's
-    body-frame displacement of the last cycle (``Bodies.step``'s ``odometry``) and ``turn``
-    (n,) the true heading change of its physics step (beams and referee placements are
-    teleports a gyro does not feel); both are 0 after reset and stay 0 in state mode.
+    ``obs_mode``: what the agents observe (``teamenv.observation_mode``). In ``vision`` mode
+    ``self.vision`` (a ``VisionPerception`` of its camera) builds the observations,
+    ``odometry`` (n, 3) is the walk engine's body-frame displacement of the last cycle
+    (``Bodies.step``'s ``odometry``) and ``turn`` (n,) the true heading change of its physics
+    step (beams and referee placements are teleports a gyro does not feel); both are 0 after
+    reset and stay 0 in state mode.
     """
 
     def __init__(self, field_spec: FieldSpec, team_size: int, rules: RulesConfig,
                  physics: PhysicsConfig, profile: locomotion.Profile, channel: str,
-                 profile_phases: bool = True, perception: PerceptionConfig | None = None) -> None:
+                 profile_phases: bool = True, obs_mode: ObservationMode = STATE_MODE) -> None:
         self.field, self.team_size, self.rules, self.physics = field_spec, team_size, rules, physics
         self.n = 2 * team_size
         self.profile = profile
@@ -99,9 +101,10 @@ class Simulation:
         self.channel = comms.make_channel(channel, self.n, self.team_of)
         self.heard_slots = int(self.channel.profile.max_heard)
         self.perception = StatePerception(team_size, self.heard_slots)
-        self.vision = None if perception is None else VisionPerception(
-            field_spec, team_size, self.heard_slots, perception, profile.body_radius,
-            physics.ball_radius)
+        self.obs_mode = obs_mode
+        self.vision = VisionPerception(
+            field_spec, team_size, self.heard_slots, obs_mode.perception, profile.body_radius,
+            physics.ball_radius) if obs_mode.is_vision else None
         self.odometry = np.zeros((self.n, 3))
         self.turn = np.zeros(self.n)
         self.cycle = 0
@@ -132,7 +135,7 @@ class Simulation:
         self.cycle = 0
         self.odometry = np.zeros((self.n, 3))
         self.turn = np.zeros(self.n)
-        if self.vision is not None:
+        if self.obs_mode.is_vision:
             self.vision.reset(rng.spawn(1)[0] if vision_rng is None else vision_rng)
         self.channel_rng = rng.spawn(1)[0] if channel_rng is None else channel_rng
         self.bodies.reset()
@@ -190,7 +193,7 @@ class Simulation:
         acc["kick"] += t3 - t2
         self.world.step(velocity)
         touchers.extend(self.world.touches)
-        if self.vision is not None:
+        if self.obs_mode.is_vision:
             self.odometry = np.asarray(res.odometry, dtype=float)
             self.turn = wrap_angle(self.world.player_poses()[:, 2] - h)
         t4 = clock()
@@ -265,7 +268,7 @@ class Simulation:
             counts = list(map(len, heard))
             if not sum(counts):
                 return
-            _, texts, direction, is_self, teammate = zip(*chain.from_iterable(heard), strict=False)
+            _, texts, direction, is_self, teammate = zip(*chain.from_iterable(heard), strict=True)
             listener = np.repeat(self._listener_ids, counts)
             is_self_a = np.array(is_self, dtype=bool)
             mate_a = np.array(teammate, dtype=bool)
@@ -312,7 +315,7 @@ class Simulation:
         In vision mode each call is a new look (noise drawn anew): use
         ``observation_forms()`` for both forms of one look. ``lazy`` (state mode, Dict form):
         a sequence whose dicts are built on first access (``perception.ObservationRows``)."""
-        if self.vision is not None:
+        if self.obs_mode.is_vision:
             dicts, rows = self.observation_forms(dicts=not flat, flat=flat)
             return rows if flat else dicts
         t0 = self._clock()
@@ -327,7 +330,7 @@ class Simulation:
     def observation_forms(self, dicts: bool = True, flat: bool = True) -> tuple[list, list]:
         """One look, in both forms: (Dict observations, flat rows); a form not asked for is
         an empty list. Vision mode only."""
-        if self.vision is None:
+        if not self.obs_mode.is_vision:
             raise RuntimeError("observation_forms() is for vision mode")
         t0 = self._clock()
         ref, vision = self.referee, self.vision

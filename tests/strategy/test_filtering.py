@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-import strategy.perception.filtering as filtering
+import strategy.perception.clustering as clustering
 from strategy.perception.ball_belief import BallBelief
 from strategy.perception.filtering import (
     FilterParams,
@@ -28,13 +28,13 @@ CYCLE_S = 0.02
 def sklearn_calls(monkeypatch):
     """Counts the DBSCAN fits (the expensive part) while still running them."""
     calls = []
-    real = filtering._dbscan_labels
+    real = clustering._dbscan_labels
 
     def counting(points, *args):
         calls.append(len(points))
         return real(points, *args)
 
-    monkeypatch.setattr(filtering, "_dbscan_labels", counting)
+    monkeypatch.setattr(clustering, "_dbscan_labels", counting)
     return calls
 
 
@@ -397,7 +397,7 @@ def test_a_tight_cluster_is_kept_whole_and_moves_with_the_sightings(offset, n, s
 def test_min_samples_one_fast_path_labels_like_sklearn_dbscan():
     from sklearn.cluster import DBSCAN
 
-    from strategy.perception.filtering import _dbscan_labels
+    from strategy.perception.clustering import _dbscan_labels
 
     rng = np.random.default_rng(7)
     for _ in range(200):
@@ -434,7 +434,7 @@ def test_numpy_dbscan_labels_like_sklearn_dbscan():
     groups kept apart as by a third coordinate of 2 eps per group."""
     from sklearn.cluster import DBSCAN
 
-    from strategy.perception.filtering import _dbscan_labels, _exact_dbscan_labels
+    from strategy.perception.clustering import _dbscan_labels, _exact_dbscan_labels
 
     rng = np.random.default_rng(5)
     for _ in range(250):
@@ -476,7 +476,7 @@ def test_numpy_dbscan_labels_like_sklearn_dbscan():
 def test_clique_means_equal_the_clustering_bit_for_bit():
     """The heard reports' shortcut (every object's points within eps: one cluster each)
     gives cluster_objects' n, positions and newest_s exactly, and declines otherwise."""
-    from strategy.perception.filtering import clique_means, cluster_objects
+    from strategy.perception.clustering import clique_means, cluster_objects
 
     rng = np.random.default_rng(9)
     used = declined = 0

@@ -91,14 +91,14 @@ def test_message_drops_go_before_the_goal_key():
     from types import SimpleNamespace
 
     from comms.channel import Delivery, Drop
-    from teamenv.env import _add_message_drops
+    from teamenv.infos import add_message_drops
 
     names = ["left_1", "left_2", "right_1", "right_2"]
     base = {a: {"goal": "left"} for a in names}
     base["left_1"] = {"dropped": ["x"], "goal": "left"}
     drops = [Drop(0, -1, "too_long"), Drop(0, 2, "capacity"), Drop(3, 1, "capacity")]
     report = SimpleNamespace(delivery=Delivery([[] for _ in names], drops))
-    infos = LazyInfos(base, lambda b: _add_message_drops(b, names, report))
+    infos = LazyInfos(base, lambda b: add_message_drops(b, names, report))
     assert list(infos["left_1"]) == ["dropped", "message_dropped", "goal"]
     assert infos["left_1"]["message_dropped"] == [
         {"listener": None, "reason": "too_long"}, {"listener": "right_1", "reason": "capacity"}]

@@ -53,7 +53,7 @@ def test_matches_reference_on_env_observations():
     checked = 0
     while not env.episode_over:
         env.step({})
-        for side_obs in env._team_obs.values():
+        for side_obs in env.team_host.observations.values():
             for obs in side_obs.values():
                 assert_identical(team_frame(obs), reference_team_frame(obs))
                 checked += 1
