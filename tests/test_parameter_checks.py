@@ -24,8 +24,8 @@ from teamenv.config import PerceptionConfig, PhysicsConfig, RulesConfig
 from teamenv.errors import ConfigError
 from teamenv.league.match import LeagueMatchOptions
 from teamenv.optimize.cmaes_loop import SearchSettings
-from teamenv.optimize.search_space import Range
 from teamenv.scenarios import SCENARIOS
+from teamenv.search_space import Range
 from teamenv.tournament.schedule import Tournament
 
 NAN = math.nan
