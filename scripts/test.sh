@@ -14,6 +14,13 @@ if ! command -v chromium >/dev/null && command -v apt-get >/dev/null && [ "$(id 
     { apt-get install -y -qq chromium || { apt-get update -qq && apt-get install -y -qq chromium; }; } \
         >/dev/null 2>&1 || echo "scripts/test.sh: could not install chromium" >&2
 fi
+# Test files run in parallel, one worker per core up to 4 (pytest-xdist; TEAMENV_TEST_WORKERS=0
+# runs in this process). Whole files go to one worker (--dist loadfile), so a module's expensive
+# fixture is built once.
+CORES="$(nproc 2>/dev/null || echo 2)"
+WORKERS="${TEAMENV_TEST_WORKERS:-$(( CORES < 4 ? CORES : 4 ))}"
+PARALLEL=(-n "$WORKERS" --dist loadfile)
+[ "$WORKERS" = 0 ] && PARALLEL=()
 # Two steps. First every test but the slow ones, each under pytest's per-test timeout
 # (pyproject: 600 s, a guard against hangs). Then the tests marked slow (long but valuable:
 # e.g. full-length strength matches), with no per-test timeout, so a loaded machine makes them
@@ -26,8 +33,8 @@ step() {
     return "$rc"
 }
 status=0
-step "$VENV/bin/python" -m pytest -m "not slow" "$@" || status=$?
+step "$VENV/bin/python" -m pytest -m "not slow" "${PARALLEL[@]}" "$@" || status=$?
 echo "== slow tests (no per-test timeout; budget ${TEAMENV_SLOW_BUDGET_S:-3600} s) =="
 step timeout "${TEAMENV_SLOW_BUDGET_S:-3600}" "$VENV/bin/python" -m pytest -m slow \
-    --timeout=0 "$@" || status=$?
+    --timeout=0 "${PARALLEL[@]}" "$@" || status=$?
 exit "$status"
