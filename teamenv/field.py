@@ -54,7 +54,7 @@ class FieldSpec:
 # simspark: the classic 3D league (rcssserver3d naosoccersim.rb defaults).
 # mj7v7: RCSSServerMJ's "fifa7vs7" field, the default of its "ssim" rules (7 v 7, 5-minute
 # halves); fifa: RCSSServerMJ's "fifa" field (a full-size pitch). Both are read against the
-# installed server's rcsssmj.games.soccer.soccer_fields (tests/teamenv/test_field_league.py).
+# installed server's rcsssmj.games.soccer.soccer_fields (tests/teamenv/league/test_field_league.py).
 FIELD_PRESETS: dict[str, FieldSpec] = {
     "simspark": FieldSpec(
         name="simspark", length=30.0, width=20.0, goal_width=2.1, goal_depth=0.6,

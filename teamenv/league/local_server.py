@@ -12,7 +12,7 @@ server generates the perceptions, then applies the answers to the *previous* per
 steps 4 x 5 ms; so an answer to the perception of cycle k moves the robot from cycle k+1 to
 k+2 — a one-cycle delay every controller on the real server lives with.
 
-Tested against the real server (``tests/teamenv/test_league_local_server.py``): the same
+Tested against the real server (``tests/teamenv/league/test_league_local_server.py``): the same
 perceptor kinds, and the same joint trajectory under the same motor commands.
 """
 

@@ -28,7 +28,7 @@ pytestmark = pytest.mark.humanoid
 pytest.importorskip("rcsssmj", reason="needs the humanoid extra: pip install -e '.[humanoid]'")
 
 HOST = "127.0.0.1"
-DATA = Path(__file__).parent / "league_data"
+DATA = Path(__file__).resolve().parents[1] / "league_data"
 
 
 def _gone(pid: int) -> bool:

@@ -25,7 +25,7 @@ from teamenv.league.kick import (
 from teamenv.league.perception import Perception, parse_perception
 
 pytestmark = pytest.mark.humanoid
-DATA = Path(__file__).parent / "league_data"
+DATA = Path(__file__).resolve().parents[1] / "league_data"
 
 
 def _perception() -> Perception:

@@ -171,6 +171,8 @@ def test_tournament_stops_a_separated_pairing(tmp_path):
     assert backend.played == [0, 1, 2, 3]
     assert summary.stored == 4 and not summary.complete
     assert summary.separated == ("static vs chaser",)
+    assert "done (8 scheduled matches not needed" in summary.describe()
+    assert "rerun with --resume" not in summary.describe()
     with ResultStore(db) as store:
         assert store.count_matches(summary.tournament_id) == 4
     # without the option, resume plays the rest

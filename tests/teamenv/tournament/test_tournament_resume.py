@@ -14,7 +14,7 @@ from pathlib import Path
 from teamenv.match import MatchOptions
 from teamenv.tournament import ResultStore, round_robin, run_tournament
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 TEAMS = ["chaser", "static", "chaser:all_chase=true"]
 OPTIONS = MatchOptions(team_size=2, half_time_s=25.0, halves=1)
 ARGS = ["--team-size", "2", "--half-time", "25", "--halves", "1", "--games", "2", "--seed", "3",

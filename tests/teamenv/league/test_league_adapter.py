@@ -18,7 +18,7 @@ from teamenv.league.controller import torso_pose
 from teamenv.league.errors import LeagueError
 from teamenv.league.perception import parse_perception
 
-DATA = Path(__file__).parent / "league_data"
+DATA = Path(__file__).resolve().parents[1] / "league_data"
 
 
 def _recorded(name: str):

@@ -32,10 +32,9 @@ from teamenv.league.perception import parse_perception
 from teamenv.match import Goal, MatchResult
 from teamenv.tournament import ResultStore
 from teamenv.tournament.table import league_table
+from tests.teamenv.league_teams import ScriptedTeam
 
-from .league_teams import ScriptedTeam
-
-DATA = Path(__file__).parent / "league_data"
+DATA = Path(__file__).resolve().parents[1] / "league_data"
 SCRIPTED = "tests.teamenv.league_teams:ScriptedTeam"
 RAISING = "tests.teamenv.league_teams:RaisingTeam"
 

@@ -27,7 +27,7 @@ from teamenv.viewer.sources import ViewerSource, open_source
 
 from .test_viewer import record_replay, record_tournament
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 ARTIFACTS = Path(os.environ.get("TEAMENV_ARTIFACTS") or ROOT / "out" / "artifacts")
 SEEK_CYCLE = 180
 GRASS = (30, 120, 40)

@@ -26,7 +26,7 @@ from teamenv.optimize.cmaes_loop import (
 )
 from teamenv.search_space import Choice, Range, SearchSpace, build_search_space, search
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 TARGET = {"speed": 1.6, "weight": 30.0, "count": 4, "shape": "deep"}
 
 
@@ -118,7 +118,7 @@ _CHILD = """
 import sys
 from pathlib import Path
 from teamenv.optimize.cmaes_loop import SearchSettings, optimize
-from tests.teamenv.test_optimize_cmaes import Sphere, toy_space
+from tests.teamenv.optimize.test_optimize_cmaes import Sphere, toy_space
 db, progress = sys.argv[1], sys.argv[2]
 optimize("kill", db, toy_space(), Sphere(delay=0.03, progress=progress), generations=8,
          settings=SearchSettings(seed=11, popsize=6), resume=True)

@@ -27,7 +27,7 @@ from teamenv.league.perception import GameState, Heard, parse_perception
 from teamenv.sim.playmode import PLAY_MODES, PlayMode
 from teamenv.sim.vision import VisionPerception
 
-DATA = Path(__file__).parent / "league_data"
+DATA = Path(__file__).resolve().parents[1] / "league_data"
 RECORDED = [("first.txt", "Alpha", "left", 2), ("vision_players_ball.txt", "Beta", "right", 1),
             ("heard.txt", "Beta", "right", 1), ("kick_off.txt", "Alpha", "left", 2),
             ("no_vision.txt", "Alpha", "left", 2)]

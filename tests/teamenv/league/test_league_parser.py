@@ -19,7 +19,7 @@ from teamenv.league.framing import MAX_FRAME_BYTES, encode_frame, read_frame, sp
 from teamenv.league.perception import PERCEPTORS, parse_perception
 from teamenv.league.sexp import parse_all, to_text
 
-DATA = Path(__file__).parent / "league_data"
+DATA = Path(__file__).resolve().parents[1] / "league_data"
 RECORDED = sorted(DATA.glob("*.txt"))
 T1_JOINTS = 23
 
