@@ -47,8 +47,15 @@ class TournamentSummary:
         return 60.0 * self.played / self.wall_s if self.wall_s > 0 else 0.0
 
     def describe(self) -> str:
-        state = "complete" if self.complete else f"incomplete ({self.scheduled - self.stored} " \
-                                                  "missing; rerun with --resume)"
+        missing = self.scheduled - self.stored
+        if self.complete:
+            state = "complete"
+        elif self.separated and not self.failures:
+            # only pairings that stopped early lack matches: the run did what it was asked
+            state = (f"done ({missing} scheduled matches not needed: their pairings were "
+                     "separated; --resume without --stop-when-separated plays them)")
+        else:
+            state = f"incomplete ({missing} missing; rerun with --resume)"
         text = (f"tournament {self.tournament.name!r}: {self.stored}/{self.scheduled} matches "
                 f"stored, {state}; played {self.played} now ({self.skipped} were stored) in "
                 f"{self.wall_s:.1f} s on {self.workers} {self.backend} worker(s), "
