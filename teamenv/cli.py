@@ -14,6 +14,7 @@ from pathlib import Path
 
 from teamenv import __version__
 from teamenv.errors import TeamEnvError, Terminated
+from teamenv.match import MatchOptions
 from teamenv.tournament.cli import add_report_command
 from teamenv.viewer.cli import add_parser as add_view_parser
 
@@ -24,16 +25,7 @@ def _add_match(sub: argparse._SubParsersAction) -> None:
     p.add_argument("right", help="right team")
     p.add_argument("--seed", type=int, default=0,
                    help="match seed: the same seed plays the same match (default 0)")
-    p.add_argument("--field", default="simspark", help="simspark | mj7v7 | fifa")
-    p.add_argument("--team-size", type=int, default=None, help="players per side (1-11)")
-    p.add_argument("--half-time", type=float, default=300.0, help="length of a half (s)")
-    p.add_argument("--halves", type=int, default=2, help="halves per match: 1 or 2 (default 2)")
-    p.add_argument("--channel", default="simspark", help="say channel: simspark | mj")
-    p.add_argument("--observation", default="state", choices=("state", "vision"),
-                   help="observation mode of the teams: true state or the league's vision")
-    p.add_argument("--vision", default=None,
-                   help="vision profile with --observation vision: simspark (default) | mj | "
-                        "mj_noisy")
+    MatchOptions.add_arguments(p)
     p.add_argument("--left-config", default="{}", help="JSON dict of the left team's config")
     p.add_argument("--right-config", default="{}", help="JSON dict of the right team's config")
     p.add_argument("--replay", type=Path, help="save a replay (.npz) here")
@@ -46,11 +38,9 @@ def _add_match(sub: argparse._SubParsersAction) -> None:
 
 
 def _run_match(args: argparse.Namespace) -> int:
-    from teamenv.match import MatchOptions, play_match
+    from teamenv.match import play_match
 
-    options = MatchOptions(field=args.field, team_size=args.team_size, half_time_s=args.half_time,
-                           halves=args.halves, channel=args.channel,
-                           observation_mode=args.observation, vision=args.vision)
+    options = MatchOptions.from_arguments(args)
     replay_path = args.replay
     if args.gif and replay_path is None:
         replay_path = args.gif.with_suffix(".npz")

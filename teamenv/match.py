@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import json
 import signal
 import threading
@@ -38,6 +39,47 @@ class MatchOptions:
     channel: str = "simspark"
     locomotion_profile: str = DEFAULT_LOCOMOTION_PROFILE
     vision: str | None = None
+
+    @staticmethod
+    def add_arguments(parser: argparse.ArgumentParser) -> None:
+        """The command-line flags of these options, for every command that plays matches (the
+        defaults are this class's, the names listed come from the presets and profile
+        registries)."""
+        import comms
+        import locomotion
+        from teamenv.config import VISION_PROFILES
+        from teamenv.field import FIELD_PRESETS
+
+        d = MatchOptions()
+        parser.add_argument("--field", default=d.field,
+                            help=f"field preset: {' | '.join(FIELD_PRESETS)} (default {d.field})")
+        parser.add_argument("--team-size", type=int, default=d.team_size,
+                            help="players per side, 1-11 (default: the field's own)")
+        parser.add_argument("--half-time", type=float, default=d.half_time_s,
+                            help=f"length of a half in seconds (default {d.half_time_s:g})")
+        parser.add_argument("--halves", type=int, default=d.halves,
+                            help=f"halves per match: 1 or 2 (default {d.halves})")
+        parser.add_argument("--observation", default=d.observation_mode,
+                            choices=("state", "vision"),
+                            help="observation mode of the teams: true state or the league's "
+                                 f"vision (default {d.observation_mode})")
+        parser.add_argument("--vision", default=d.vision,
+                            help="vision profile with --observation vision: "
+                                 f"{' | '.join(VISION_PROFILES.names())} (default simspark)")
+        parser.add_argument("--channel", default=d.channel,
+                            help=f"say channel: {' | '.join(comms.PROFILES.names())} "
+                                 f"(default {d.channel})")
+        parser.add_argument("--locomotion-profile", default=d.locomotion_profile,
+                            help="how the bodies move: a shipped profile "
+                                 f"({' | '.join(locomotion.PROFILES.names())}) or a JSON "
+                                 f"path (default {d.locomotion_profile})")
+
+    @classmethod
+    def from_arguments(cls, args: argparse.Namespace) -> MatchOptions:
+        """The options of parsed ``add_arguments`` flags."""
+        return cls(field=args.field, team_size=args.team_size, half_time_s=args.half_time,
+                   halves=args.halves, observation_mode=args.observation, channel=args.channel,
+                   locomotion_profile=args.locomotion_profile, vision=args.vision)
 
     @classmethod
     def from_dict(cls, values: Mapping[str, Any]) -> MatchOptions:

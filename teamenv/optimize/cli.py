@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from teamenv.match import MatchOptions
 from teamenv.optimize.checkpoint import OptimizeError
 
 
@@ -50,14 +51,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:
                    "teamenv.analytics)")
     p.add_argument("--metric-weight", type=float, default=1.0, help="fitness = goal "
                    "difference + this x the metric; 0: goal difference alone")
-    p.add_argument("--field", default="simspark", help="simspark | mj7v7 | fifa")
-    p.add_argument("--team-size", type=int, default=None, help="players per side (1-11)")
-    p.add_argument("--half-time", type=float, default=300.0, help="length of a half (s)")
-    p.add_argument("--halves", type=int, default=2, help="halves per match: 1 or 2 (default 2)")
-    p.add_argument("--observation", default="state", choices=("state", "vision"),
-                   help="observation mode of the teams (default state)")
-    p.add_argument("--vision", default=None, help="vision profile: simspark | mj")
-    p.add_argument("--channel", default="simspark", help="say channel: simspark | mj")
+    MatchOptions.add_arguments(p)
     p.add_argument("--cycle-budget", type=float, default=None,
                    help="a team whose act() takes longer (s) in any cycle forfeits")
     p.add_argument("--stall-timeout", type=float, default=10.0,
@@ -80,7 +74,6 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:
 def _run(args: argparse.Namespace) -> int:
     from rich.console import Console
 
-    from teamenv.match import MatchOptions
     from teamenv.optimize.cmaes_loop import SearchSettings, load_result, optimize
     from teamenv.optimize.plot import plot_convergence
     from teamenv.optimize.progress import RichReporter
@@ -91,10 +84,7 @@ def _run(args: argparse.Namespace) -> int:
 
     console = Console(stderr=True)
     execution = {"backend": args.backend, "jobs": args.jobs, "ray_address": args.ray_address}
-    options = MatchOptions(field=args.field, team_size=args.team_size,
-                           half_time_s=args.half_time, halves=args.halves,
-                           observation_mode=args.observation, vision=args.vision,
-                           channel=args.channel)
+    options = MatchOptions.from_arguments(args)
     if args.resume:
         if args.team or args.against or args.params or args.bounds:
             raise OptimizeError("--resume takes the run's definition from the database: give "

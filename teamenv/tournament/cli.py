@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import Any
 
 from teamenv.errors import Terminated
+from teamenv.match import MatchOptions
 
 DEFAULT_NAME = "tournament"
 
@@ -57,18 +58,7 @@ def add_tournament_commands(subparsers: argparse._SubParsersAction) -> None:
     run.add_argument("--no-swap", action="store_true", help="do not replay each round with "
                      "sides swapped (default: each seed is played once from each side)")
     run.add_argument("--seed", type=int, default=0, help="tournament seed")
-    run.add_argument("--field", default="simspark", help="simspark | mj7v7 | fifa")
-    run.add_argument("--team-size", type=int, default=None, help="players per side (1-11)")
-    run.add_argument("--half-time", type=float, default=300.0, help="length of a half (s)")
-    run.add_argument("--halves", type=int, default=2, help="halves per match: 1 or 2 (default 2)")
-    run.add_argument("--observation", default="state", choices=("state", "vision"),
-                     help="observation mode of the teams")
-    run.add_argument("--vision", default=None, help="vision profile with --observation vision: "
-                     "simspark (default) | mj")
-    run.add_argument("--channel", default="simspark", help="say channel: simspark | mj")
-    run.add_argument("--locomotion-profile", default="t1_mj",
-                     help="robot profile: a shipped name (t1_mj, t1_league, t1_lipm, "
-                          "nao_simspark) or a JSON path (default t1_mj)")
+    MatchOptions.add_arguments(run)
     run.add_argument("--cycle-budget", type=float, default=None,
                      help="a team whose act() takes longer (s) in any cycle forfeits")
     run.add_argument("--stall-timeout", type=float, default=10.0,
@@ -137,13 +127,9 @@ def _add_output_args(p: argparse.ArgumentParser) -> None:
 
 
 def _definition(args: argparse.Namespace) -> Any:
-    from teamenv.match import MatchOptions
     from teamenv.tournament.schedule import Tournament
 
-    options = MatchOptions(field=args.field, team_size=args.team_size,
-                           half_time_s=args.half_time, halves=args.halves,
-                           observation_mode=args.observation, channel=args.channel,
-                           vision=args.vision, locomotion_profile=args.locomotion_profile)
+    options = MatchOptions.from_arguments(args)
     return Tournament(
         name=args.name or DEFAULT_NAME, teams=tuple(args.teams),
         format=args.format.replace("-", "_"), challenger=args.challenger,

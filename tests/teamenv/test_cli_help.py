@@ -60,3 +60,22 @@ def test_subcommand_usage_names_the_command(capsys):
     with pytest.raises(SystemExit):
         main(["render", "--help"])
     assert capsys.readouterr().out.startswith("usage: teamenv render ")
+
+
+MATCH_FLAGS = ["--field", "mj7v7", "--team-size", "5", "--half-time", "40", "--halves", "1",
+               "--observation", "vision", "--vision", "mj", "--channel", "mj",
+               "--locomotion-profile", "t1_league"]
+
+
+@pytest.mark.parametrize("command", [["match", "full", "chaser"],
+                                     ["tournament", "run", "full", "chaser", "--db", "t.sqlite"],
+                                     ["optimize", "full"]])
+def test_every_match_playing_command_reads_the_same_match_options(command):
+    from teamenv.match import MatchOptions
+
+    args = build_parser().parse_args([*command, *MATCH_FLAGS])
+    assert MatchOptions.from_arguments(args) == MatchOptions(
+        field="mj7v7", team_size=5, half_time_s=40.0, halves=1, observation_mode="vision",
+        vision="mj", channel="mj", locomotion_profile="t1_league")
+    defaults = build_parser().parse_args(command)
+    assert MatchOptions.from_arguments(defaults) == MatchOptions()
