@@ -153,7 +153,7 @@ def getup_parameters(path: Path) -> dict[str, dict]:
 
 def fall_statistics(replay_dir: Path, near_m: float = 1.0) -> dict[str, Any]:
     """Falls per robot and minute of play in league replays, and the share near another robot."""
-    from teamenv.league.replay import latch_falls
+    from teamenv.league.replay import fall_events
     from teamenv.replay import load_replay
 
     falls = near = 0
@@ -161,19 +161,13 @@ def fall_statistics(replay_dir: Path, near_m: float = 1.0) -> dict[str, Any]:
     replays = sorted(Path(replay_dir).glob("*.npz"))
     for path in replays:
         replay = load_replay(path)
-        fallen = latch_falls(replay.fallen).astype(np.int8)
         playing = replay.play_mode != 0
         cycle_s = float(replay.metadata["cycle_s"])
-        robot_minutes += float(playing.sum()) * cycle_s / 60.0 * fallen.shape[1]
-        for row, i in np.argwhere(np.diff(fallen, axis=0) == 1):
-            row = int(row) + 1
-            if not playing[row]:
-                continue
-            xy = replay.players[max(row - 5, 0), :, :2]
-            d = np.hypot(*(xy - xy[i]).T)
-            d[i] = np.inf
-            falls += 1
-            near += bool(d.min() < near_m)
+        robot_minutes += float(playing.sum()) * cycle_s / 60.0 * replay.fallen.shape[1]
+        for fall in fall_events(replay):
+            if playing[fall.row]:
+                falls += 1
+                near += fall.nearest_m < near_m
     return {"replays": len(replays), "robot_minutes": round(robot_minutes, 2), "falls": falls,
             "falls_per_robot_minute": round(falls / robot_minutes, 4) if robot_minutes else None,
             f"share_within_{near_m:g}_m": round(near / falls, 3) if falls else None,

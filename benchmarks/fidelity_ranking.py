@@ -175,7 +175,7 @@ def league_falls(records: Sequence[Any], team_stats: dict[int, dict[str, dict]],
     before (5 cycles), and the share in the first ``early_s`` of play."""
     from pathlib import Path
 
-    from teamenv.league.replay import latch_falls
+    from teamenv.league.replay import fall_events, latch_falls
     from teamenv.replay import load_replay
 
     falls = near = early = matches = 0
@@ -192,14 +192,10 @@ def league_falls(records: Sequence[Any], team_stats: dict[int, dict[str, dict]],
             sides["left"]["falls"] = int(per_robot[:n].sum())
             sides["right"]["falls"] = int(per_robot[n:].sum())
         kick_off = int(np.argmax(replay.play_mode != 0))
-        for row, i in np.argwhere(np.diff(fallen, axis=0) == 1):
-            row = int(row) + 1
-            xy = replay.players[max(row - 5, 0), :, :2]
-            d = np.hypot(*(xy - xy[i]).T)
-            d[i] = np.inf
+        for fall in fall_events(replay):
             falls += 1
-            near += bool(d.min() < near_m)
-            early += bool((row - kick_off) * float(replay.metadata["cycle_s"]) < early_s)
+            near += fall.nearest_m < near_m
+            early += (fall.row - kick_off) * float(replay.metadata["cycle_s"]) < early_s
     if not falls:
         return {"matches": matches, "falls": 0}
     return {"matches": matches, "falls_per_match": falls / max(matches, 1),

@@ -20,6 +20,7 @@ not known (zeros), so the message statistics of a league replay are partial.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -52,6 +53,35 @@ def latch_falls(down: np.ndarray, recover: int = RECOVER_CYCLES) -> np.ndarray:
         up_for = np.where(down[t], 0, up_for + 1)
         fallen = down[t] | (fallen & (up_for < recover))
         out[t] = fallen
+    return out
+
+
+# how many cycles before a fall the other robots' distance is read (before the fall moves them)
+FALL_LOOKBACK_CYCLES = 5
+
+
+@dataclass(frozen=True)
+class FallEvent:
+    """A robot going down in a league replay: the cycle (row), the player index (0..2N-1,
+    left team first) and the distance to the nearest other robot ``FALL_LOOKBACK_CYCLES``
+    before."""
+
+    row: int
+    player: int
+    nearest_m: float
+
+
+def fall_events(replay: Any) -> list[FallEvent]:
+    """Every fall in a league replay (``latch_falls`` over its per-cycle fall flags, so a robot
+    flickering across the fall test falls once), in order."""
+    fallen = latch_falls(replay.fallen).astype(np.int8)
+    out = []
+    for row, i in np.argwhere(np.diff(fallen, axis=0) == 1):
+        row, i = int(row) + 1, int(i)
+        xy = replay.players[max(row - FALL_LOOKBACK_CYCLES, 0), :, :2]
+        d = np.hypot(*(xy - xy[i]).T)
+        d[i] = np.inf
+        out.append(FallEvent(row, i, float(d.min())))
     return out
 
 
