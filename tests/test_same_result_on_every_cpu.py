@@ -43,7 +43,7 @@ SCALAR_POWERS = {
     ("strategy/positioning/roles/voting.py", "float(n) ** n"),
     ("comms/codec.py", "n ** k"),
     ("comms/codec.py", "len(profile.charset) ** profile.max_chars"),
-    ("comms/schema.py", "element.cardinality ** count"),
+    ("comms/fields.py", "element.cardinality ** count"),
 }
 
 
