@@ -17,7 +17,7 @@ teamenv, VMAS) it also reports agent-steps per CPU-second of this process (the m
 that other load on a shared machine does not change much. Writes ``benchmarks/results/vector_speed.json``.
 
 Usage: python benchmarks/vector_speed.py [--team-sizes 5 11] [--envs 1 2 4] [--seconds 3]
-                                         [--vmas-batches 1 8 32 128 512 2048] [--repeats 3]
+                                         [--vmas-batches 1 8 32 128 512 2048 4096] [--repeats 3]
 """
 
 from __future__ import annotations
@@ -142,7 +142,7 @@ def main(argv: list[str] | None = None) -> None:
                         help="vector sizes, each in as many worker processes (none: skip)")
     parser.add_argument("--max-cycles", type=int, default=1000)
     parser.add_argument("--vmas-batches", type=int, nargs="+",
-                        default=[1, 8, 32, 128, 512, 2048])
+                        default=[1, 8, 32, 128, 512, 2048, 4096])
     parser.add_argument("--seconds", type=float, default=3.0, help="per timed repeat")
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--json", type=Path, default=RESULTS)
