@@ -1,0 +1,132 @@
+"""Egocentric player slots: the state-mode Box observation re-read as "my nearest teammates,
+my nearest opponents", a fixed number of each, sorted by distance and masked.
+
+Why it exists. The env's Box observation lists the other players by uniform number
+(``teammate_1 .. teammate_N``, ``opponent_1 .. opponent_N``, the agent's own row included),
+which is right for a team that knows its roles but awkward for one network shared by every
+player of a side (parameter sharing, the usual way to train a team):
+
+- the same situation reads differently for each player (``left_2`` finds itself in row 2,
+  ``left_3`` in row 3), so the network must learn every permutation of the same picture;
+- what matters most — the nearest opponent, the closest teammate to pass to — sits in a
+  different row every cycle;
+- its length grows with the team size, so a network trained 3 v 3 cannot play 5 v 5.
+
+``EgocentricObservation`` keeps the agent's own state, the ball, the play mode and the game
+values as they are and replaces the player rows with the ``teammates`` nearest teammates
+(itself left out) and the ``opponents`` nearest opponents, each sorted nearest first. A slot
+holds the env's five player columns (``rel_x rel_y rel_heading fallen present``); a slot with
+nobody in it (fewer players than slots) is all zeros, so ``present`` is its mask. The heard
+messages are left out (their count depends on the say channel, and a policy that does not
+talk has little use for them). The length no longer depends on the team size: a policy
+trained with 2 teammate and 3 opponent slots plays 3 v 3 and 7 v 7 alike.
+
+Exact and portable: the sort key is ``rel_x**2 + rel_y**2`` (correctly rounded basic
+operations, the same on every machine), ties keep uniform-number order (a stable sort), and
+the agent's own row is the one at distance exactly 0 (the env writes ``x - x``; two bodies
+cannot share a position).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from teamenv.errors import ConfigError
+from teamenv.slots import PLAYER_COLUMNS, state_slot_names
+
+#: The parts of the Box observation kept as they are, in output order before the slots.
+_HEAD_PARTS = ("self.", "ball.")
+#: The parts kept after the slots.
+_TAIL_PARTS = ("play_mode.", "game.")
+
+
+class EgocentricObservation:
+    """Maps state-mode Box observations (one row per agent) to egocentric rows.
+
+    Args:
+        team_size: players per side of the env the raw rows come from.
+        heard_slots: heard-message slots of its say channel (``env.sim.heard_slots``).
+        teammates: teammate slots (nearest first, the agent itself never among them).
+        opponents: opponent slots (nearest first).
+
+    Output layout (``names``): ``self.*`` (7), ``ball.*`` (4), ``teammate_near_k.*`` and
+    ``opponent_near_k.*`` (5 each, ``PLAYER_COLUMNS``), ``play_mode.*`` (13), ``game.*`` (4).
+    ``self`` and ``ball`` keep their places at the front, so a policy file's reflexes (kick
+    gate, walk to the ball), which read ``ball.rel_x``/``ball.rel_y`` at columns 7-8, read the
+    same values from a raw or an egocentric row.
+    """
+
+    def __init__(self, team_size: int, heard_slots: int, teammates: int = 2,
+                 opponents: int = 3) -> None:
+        for name, value in (("team_size", team_size), ("heard_slots", heard_slots),
+                            ("teammates", teammates), ("opponents", opponents)):
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 0:
+                raise ConfigError(f"egocentric slots: {name} must be an int >= 0, got {value!r}")
+        if team_size < 1:
+            raise ConfigError(f"egocentric slots: team_size must be >= 1, got {team_size!r}")
+        self.team_size, self.heard_slots = int(team_size), int(heard_slots)
+        self.teammates, self.opponents = int(teammates), int(opponents)
+        raw = state_slot_names(self.team_size, self.heard_slots)
+        self.raw_size = len(raw)
+        index = {name: k for k, name in enumerate(raw)}
+        width = len(PLAYER_COLUMNS)
+        self._head = np.array([k for k, n in enumerate(raw) if n.startswith(_HEAD_PARTS)])
+        self._tail = np.array([k for k, n in enumerate(raw) if n.startswith(_TAIL_PARTS)])
+        self._mates = index[f"teammate_1.{PLAYER_COLUMNS[0]}"]
+        self._opps = index[f"opponent_1.{PLAYER_COLUMNS[0]}"]
+        self._width = width
+        self.names = tuple(
+            [raw[k] for k in self._head]
+            + [f"teammate_near_{s + 1}.{c}" for s in range(self.teammates) for c in PLAYER_COLUMNS]
+            + [f"opponent_near_{s + 1}.{c}" for s in range(self.opponents) for c in PLAYER_COLUMNS]
+            + [raw[k] for k in self._tail])
+        self.size = len(self.names)
+
+    @classmethod
+    def for_env(cls, env, teammates: int = 2, opponents: int = 3) -> EgocentricObservation:
+        """The transform for the state-mode Box observations of ``env`` (a parallel env)."""
+        env = env.unwrapped
+        if env.perception is not None:
+            raise ConfigError("egocentric slots: state-mode observations only (the env uses "
+                              "vision)")
+        return cls(env.team_size, env.sim.heard_slots, teammates, opponents)
+
+    def __call__(self, raw: np.ndarray) -> np.ndarray:
+        """Egocentric rows (float32) for ``raw`` (n, raw_size) or one row (raw_size,)."""
+        rows = np.asarray(raw, dtype=np.float32)
+        single = rows.ndim == 1
+        if single:
+            rows = rows[None]
+        if rows.ndim != 2 or rows.shape[1] != self.raw_size:
+            raise ConfigError(f"egocentric slots: observations of shape {np.shape(raw)}, "
+                              f"expected (n, {self.raw_size}) (state mode, team_size "
+                              f"{self.team_size}, {self.heard_slots} heard slots)")
+        n, size, width = len(rows), self.team_size, self._width
+        mates = rows[:, self._mates:self._mates + size * width].reshape(n, size, width)
+        opps = rows[:, self._opps:self._opps + size * width].reshape(n, size, width)
+        # The agent's own row (distance exactly 0) sorts first among its teammates: drop it.
+        own_dropped = self._nearest(mates, size)[:, 1:]
+        out = np.concatenate([
+            rows[:, self._head],
+            self._slots(mates, own_dropped, self.teammates),
+            self._slots(opps, self._nearest(opps, size), self.opponents),
+            rows[:, self._tail]], axis=1)
+        return out[0] if single else out
+
+    @staticmethod
+    def _nearest(players: np.ndarray, count: int) -> np.ndarray:
+        """Row indices of ``players`` (n, count, 5) by distance, nearest first; absent
+        players (present == 0) last."""
+        dist2 = players[:, :, 0].astype(np.float64) ** 2 + players[:, :, 1].astype(np.float64) ** 2
+        dist2[players[:, :, 4] <= 0.0] = np.inf
+        return np.argsort(dist2, axis=1, kind="stable")[:, :count]
+
+    def _slots(self, players: np.ndarray, order: np.ndarray, slots: int) -> np.ndarray:
+        """``slots`` rows of ``players`` in ``order``, zero rows where there are too few."""
+        n = len(players)
+        out = np.zeros((n, slots, self._width), dtype=np.float32)
+        take = min(slots, order.shape[1])
+        if take:
+            picked = np.take_along_axis(players, order[:, :take, None], axis=1)
+            out[:, :take] = picked * (picked[:, :, 4:5] > 0.0)  # absent: all zeros
+        return out.reshape(n, slots * self._width)
