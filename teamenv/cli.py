@@ -124,6 +124,7 @@ def build_parser() -> argparse.ArgumentParser:
     from teamenv.optimize.cli import add_parser as add_optimize_command
 
     add_optimize_command(sub)
+    __import__("teamenv.selfplay.cli", fromlist=["add_parser"]).add_parser(sub)  # selfplay
     parser.description = _describe_commands(sub)
     return parser
 

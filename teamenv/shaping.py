@@ -36,8 +36,10 @@ import numpy as np
 from teamenv.errors import ConfigError
 from teamenv.field import FieldSpec, field_preset
 
-#: Layout of ``Simulation.global_state``: ball x, y first.
-_BALL_X, _BALL_Y = 0, 1
+#: Layout of ``Simulation.global_state``: ball x, y, vx, vy; 7 values per player (x, y first;
+#: left team first); 5 game values.
+_BALL_X, _BALL_Y, _PLAYERS, _PER_PLAYER = 0, 1, 4, 7
+_STATE_FIXED = 4 + 5
 
 
 class BallToGoalPotential:
@@ -63,7 +65,46 @@ class BallToGoalPotential:
         return out
 
 
-POTENTIALS = {"ball_to_goal": BallToGoalPotential}
+class TeamToBallPotential:
+    """``Phi_team(s)`` = minus the distance from the team's player nearest the ball to the
+    ball, divided by the field length.
+
+    It pays a team for getting *someone* to the ball — only the nearest player counts, so it
+    does not pay three players for all running at it (the swarm every ball-chasing learner
+    falls into); the others are free to take positions. Reading the team size from the
+    state's length, it fits every team size.
+    """
+
+    def __init__(self, field: str | FieldSpec = "simspark") -> None:
+        self.field = field_preset(field)
+
+    def __call__(self, state: np.ndarray, attack_sign: tuple[float, float]) -> np.ndarray:
+        n = (len(state) - _STATE_FIXED) // (2 * _PER_PLAYER)
+        players = np.asarray(state[_PLAYERS:_PLAYERS + 2 * n * _PER_PLAYER], dtype=np.float64)
+        xy = players.reshape(2 * n, _PER_PLAYER)[:, :2]
+        dx, dy = xy[:, 0] - float(state[_BALL_X]), xy[:, 1] - float(state[_BALL_Y])
+        dist = np.sqrt(dx * dx + dy * dy)
+        return -np.array([dist[:n].min(), dist[n:].min()]) / self.field.length
+
+
+class WeightedPotentials:
+    """The sum of potentials, each times its weight: ``{name: weight}`` over ``POTENTIALS``."""
+
+    def __init__(self, weights: Mapping[str, float], field: str | FieldSpec = "simspark") -> None:
+        unknown = sorted(set(weights) - set(POTENTIALS))
+        if unknown:
+            raise ConfigError(f"shaping: unknown potential(s) {unknown}; potentials are "
+                              f"{sorted(POTENTIALS)}")
+        self.terms = [(float(w), POTENTIALS[name](field)) for name, w in weights.items()]
+
+    def __call__(self, state: np.ndarray, attack_sign: tuple[float, float]) -> np.ndarray:
+        total = np.zeros(2)
+        for weight, potential in self.terms:
+            total += weight * potential(state, attack_sign)
+        return total
+
+
+POTENTIALS = {"ball_to_goal": BallToGoalPotential, "team_to_ball": TeamToBallPotential}
 
 
 class PotentialShaping:
