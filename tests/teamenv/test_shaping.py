@@ -95,3 +95,20 @@ def test_bad_options_are_clear_and_the_shaping_pickles():
     env.step({"left_1": {}, "right_1": {}})
     copy = pickle.loads(pickle.dumps(shaping))
     assert copy._last_state is None and copy.gamma == 0.9
+
+
+def test_team_to_ball_counts_the_nearest_player_and_potentials_add_up():
+    from teamenv.shaping import TeamToBallPotential, WeightedPotentials
+
+    env = teamenv.parallel_env(team_size=3)
+    env.reset(seed=2)
+    state = env.state()
+    players = state[4:4 + 6 * 7].reshape(6, 7)[:, :2]
+    dist = np.hypot(players[:, 0] - state[0], players[:, 1] - state[1])
+    phi = TeamToBallPotential("simspark")(state, (1.0, -1.0))
+    assert phi == pytest.approx(-np.array([dist[:3].min(), dist[3:].min()]) / 30.0)
+    both = WeightedPotentials({"ball_to_goal": 1.0, "team_to_ball": 0.5})
+    assert both(state, (1.0, -1.0)) == pytest.approx(
+        BallToGoalPotential()(state, (1.0, -1.0)) + 0.5 * phi)
+    with pytest.raises(ConfigError, match="unknown potential"):
+        WeightedPotentials({"possession": 1.0})

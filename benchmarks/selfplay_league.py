@@ -1,0 +1,184 @@
+"""The self-play league's demo run: a 3 v 3 team trained by PPO against PFSP opponents, its
+rating curve, and the rated-best snapshot evaluated in full matches on evaluation seeds.
+
+    python benchmarks/selfplay_league.py --max-minutes 40          # train + rate (resumable)
+    python benchmarks/selfplay_league.py --evaluate 40             # + 40 evaluation matches
+    python benchmarks/selfplay_league.py --smoke                   # seconds: what CI runs
+
+Phases, each resumable by running the command again:
+
+1. the league (``teamenv.selfplay``, the configuration in ``demo_config``) in ``--run-dir``,
+   generation after generation until ``--generations`` or until ``--max-minutes`` of wall time
+   have passed (checked after each generation; a generation started is finished);
+2. the rating curve (``--curve``, a PNG) and the run's record (``--json``: per generation the
+   opponents, PFSP probabilities, training outcomes, ratings, wall times);
+3. with ``--evaluate N``: the snapshot with the highest Bradley–Terry rating (chosen on the
+   rating matches, whose seeds lie outside the evaluation range) plays ``chaser`` and
+   ``full`` N matches each on the evaluation seeds (``teamenv.seeds``), sides alternating
+   (``teamenv.headtohead``); the goal difference per match with a 95 % bootstrap interval
+   (``scipy.stats.bootstrap``, BCa, over matches); the snapshot file and the per-seed report
+   are written to ``--policy`` and ``--report``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from scipy.stats import bootstrap
+
+from teamenv.headtohead import head_to_head
+from teamenv.match import MatchOptions
+from teamenv.seeds import EVALUATION_SEEDS, evaluation_seeds
+from teamenv.selfplay.config import LeagueConfig
+from teamenv.selfplay.curve import plot_rating_curve
+from teamenv.selfplay.league import generation_seed, run_league
+from teamenv.selfplay.league_store import LEAGUE_DB, LeagueStore
+from teamenv.selfplay.rating import RatingSetup, rating_gauntlet
+from teamenv.selfplay.snapshots import SnapshotPool
+from teamenv.selfplay.training_setup import TrainingSetup
+
+
+def demo_config(smoke: bool) -> LeagueConfig:
+    """The committed run's configuration (``smoke``: a seconds-long version of it)."""
+    if smoke:
+        return LeagueConfig(
+            seed=0, steps_per_generation=192, builtins=("chaser", "static"),
+            training=TrainingSetup(team_size=3, episode_s=2.0),
+            rating=RatingSetup(half_time_s=5.0, halves=1, recent=1, n_bootstrap=20),
+            learner_options={"copies": 1, "n_steps": 64, "batch_size": 64, "n_epochs": 2})
+    return LeagueConfig(
+        seed=0, steps_per_generation=30_000, builtins=("chaser", "static", "full"),
+        training=TrainingSetup(team_size=3, episode_s=30.0),
+        rating=RatingSetup(games_per_pairing=1, half_time_s=45.0, halves=2, recent=2),
+        learner_options={"copies": 4, "n_steps": 256, "batch_size": 512, "n_epochs": 10})
+
+
+def goal_difference(scores) -> dict:
+    """Mean goal difference per match with its 95 % BCa bootstrap interval over matches."""
+    diff = np.array([a - b for a, b in scores], dtype=np.float64)
+    mean = float(diff.mean())
+    if len(diff) < 2 or np.all(diff == diff[0]):
+        low = high = mean
+    else:
+        res = bootstrap((diff,), np.mean, confidence_level=0.95, n_resamples=4000,
+                        method="BCa", random_state=np.random.default_rng(0))
+        low, high = float(res.confidence_interval.low), float(res.confidence_interval.high)
+    return {"mean": mean, "ci95": [low, high]}
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--run-dir", type=Path, default=None,
+                        help="default runs/selfplay_league (runs/selfplay_league_smoke)")
+    parser.add_argument("--generations", type=int, default=12)
+    parser.add_argument("--max-minutes", type=float, default=40.0,
+                        help="start no new generation after this much wall time")
+    parser.add_argument("--jobs", type=int, default=1, help="rating worker processes")
+    parser.add_argument("--evaluate", type=int, default=0,
+                        help="evaluation matches against chaser and against full (0: none)")
+    parser.add_argument("--eval-half-time", type=float, default=45.0)
+    parser.add_argument("--curve", type=Path, default=None,
+                        help="default docs/selfplay_rating_curve.png (smoke: in the run dir)")
+    parser.add_argument("--json", type=Path, default=None,
+                        help="default benchmarks/results/selfplay_league.json")
+    parser.add_argument("--policy", type=Path, default=None,
+                        help="default examples/policies/selfplay_3v3.npz")
+    parser.add_argument("--report", type=Path, default=None,
+                        help="default benchmarks/results/selfplay_evaluation.json")
+    parser.add_argument("--smoke", action="store_true", help="a tiny run (seconds)")
+    args = parser.parse_args(argv)
+    smoke = args.smoke
+    run_dir = args.run_dir or Path("runs/selfplay_league" + ("_smoke" if smoke else ""))
+    curve = args.curve or (run_dir / "curve.png" if smoke else
+                           Path("docs/selfplay_rating_curve.png"))
+    record = args.json or (run_dir / "league.json" if smoke else
+                           Path("benchmarks/results/selfplay_league.json"))
+    config = demo_config(smoke)
+    generations = 2 if smoke else args.generations
+
+    start = time.perf_counter()
+    resume, done = (run_dir / LEAGUE_DB).is_file(), -1
+    if resume:
+        with LeagueStore(run_dir / LEAGUE_DB) as store:
+            done = store.last_rated()
+    for target in range(max(done, 0), generations + 1):
+        if target > max(done, 0) and time.perf_counter() - start > 60.0 * args.max_minutes:
+            print(f"stopping: {args.max_minutes} min of wall time passed", flush=True)
+            break
+        run_league(run_dir, target, config, resume=resume, backend="process", jobs=args.jobs)
+        resume = True
+    league_wall_s = time.perf_counter() - start
+
+    with LeagueStore(run_dir / LEAGUE_DB) as store:
+        plot_rating_curve(store, curve, title=f"self-play league, 3 v 3 {config.training.field}"
+                          f": {store.last_rated()} generations of "
+                          f"{config.steps_per_generation} agent-decisions")
+        last = store.last_rated()
+        final = store.ratings(last)
+        rows = [{**r.comparable(), "train_wall_s": r.train_wall_s,
+                 "rate_wall_s": r.rate_wall_s,
+                 "ratings": store.ratings(r.generation).to_json()}
+                for r in store.generations() if r.rated]
+    pool = SnapshotPool(run_dir, config.training)
+    rating_seeds = sorted({seed for g in range(last + 1) for seed in rating_gauntlet(
+        g, pool.spec(g), config.builtins, config.training.field, config.training.team_size,
+        config.rating, generation_seed(config.seed, g, "rating")).round_seeds()})
+    out = {"command": "python benchmarks/selfplay_league.py " + " ".join(
+               sys.argv[1:] if argv is None else argv),
+           "config": config.to_json(), "generations_rated": last,
+           "wall_s_this_call": league_wall_s, "generations": rows,
+           "final_ratings": final.to_json(),
+           "rating_tournament_seeds_in_evaluation_range": [
+               s for s in rating_seeds if s in EVALUATION_SEEDS]}
+    record.parent.mkdir(parents=True, exist_ok=True)
+    record.write_text(json.dumps(out, indent=1) + "\n")
+    print(f"wrote {curve} and {record}")
+
+    if args.evaluate:
+        snapshots = [t for t in final.bradley_terry if t.startswith("gen-")]
+        best = snapshots[0]  # bradley_terry is ordered best first
+        generation = int(best.split("-")[1])
+        policy = args.policy or (run_dir / "best.npz" if smoke else
+                                 Path("examples/policies/selfplay_3v3.npz"))
+        report_path = args.report or (run_dir / "evaluation.json" if smoke else
+                                      Path("benchmarks/results/selfplay_evaluation.json"))
+        policy.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(pool.path(generation), policy)
+        spec = pool.spec(generation)
+        options = MatchOptions(field=config.training.field,
+                               team_size=config.training.team_size,
+                               half_time_s=args.eval_half_time, halves=2)
+        seeds = evaluation_seeds(args.evaluate)
+        report = {"snapshot": best, "policy_file": str(policy), "team_spec": spec.name,
+                  "rating": final.bradley_terry[best].__dict__, "options": options.to_dict(),
+                  "seeds": [seeds[0], seeds[-1]], "opponents": {}}
+        for opponent in ("chaser", "full"):
+            t0 = time.perf_counter()
+            result = head_to_head(spec.name, opponent, seeds, options,
+                                  config_a={"path": str(policy)}, jobs=args.jobs)
+            wins, draws, losses = result.record
+            report["opponents"][opponent] = {
+                "matches": len(result.scores), "record": {"wins": wins, "draws": draws,
+                                                          "losses": losses},
+                "goals": list(result.goals),
+                "goal_difference_per_match": goal_difference(result.scores),
+                "per_seed": [{"seed": s, "learned_left": s % 2 == 0, "goals": list(score)}
+                             for s, score in zip(seeds, result.scores, strict=True)],
+                "forfeits": list(result.forfeits), "wall_s": time.perf_counter() - t0}
+            gd = report["opponents"][opponent]["goal_difference_per_match"]
+            print(f"{best} vs {opponent}: {result.summary()}; goal difference per match "
+                  f"{gd['mean']:+.3f} [{gd['ci95'][0]:+.3f}, {gd['ci95'][1]:+.3f}]",
+                  flush=True)
+        report_path.parent.mkdir(parents=True, exist_ok=True)
+        report_path.write_text(json.dumps(report, indent=1) + "\n")
+        print(f"wrote {policy} and {report_path}")
+
+
+if __name__ == "__main__":
+    main()
