@@ -15,7 +15,8 @@ Phases, each resumable by running the command again:
 3. with ``--evaluate N``: the snapshot with the highest Bradley–Terry rating (chosen on the
    rating matches, whose seeds lie outside the evaluation range) plays ``chaser`` and
    ``full`` N matches each on the evaluation seeds (``teamenv.seeds``), sides alternating
-   (``teamenv.headtohead``); the goal difference per match with a 95 % bootstrap interval
+   (``teamenv.headtohead``), and the untrained snapshot 0 plays ``chaser`` on the same seeds
+   (what training changed); the goal difference per match with a 95 % bootstrap interval
    (``scipy.stats.bootstrap``, BCa, over matches); the snapshot file and the per-seed report
    are written to ``--policy`` and ``--report``.
 """
@@ -158,21 +159,23 @@ def main(argv: list[str] | None = None) -> None:
         report = {"snapshot": best, "policy_file": str(policy), "team_spec": spec.name,
                   "rating": final.bradley_terry[best].__dict__, "options": options.to_dict(),
                   "seeds": [seeds[0], seeds[-1]], "opponents": {}}
-        for opponent in ("chaser", "full"):
+        games = [("learned", best, policy, "chaser"), ("learned", best, policy, "full"),
+                 ("untrained", "gen-0000", pool.path(0), "chaser")]
+        for role, name, path, opponent in games:
             t0 = time.perf_counter()
             result = head_to_head(spec.name, opponent, seeds, options,
-                                  config_a={"path": str(policy)}, jobs=args.jobs)
+                                  config_a={"path": str(path)}, jobs=args.jobs)
             wins, draws, losses = result.record
-            report["opponents"][opponent] = {
-                "matches": len(result.scores), "record": {"wins": wins, "draws": draws,
-                                                          "losses": losses},
+            report.setdefault(role if role == "untrained" else "opponents", {})[opponent] = {
+                "snapshot": name, "matches": len(result.scores),
+                "record": {"wins": wins, "draws": draws, "losses": losses},
                 "goals": list(result.goals),
                 "goal_difference_per_match": goal_difference(result.scores),
-                "per_seed": [{"seed": s, "learned_left": s % 2 == 0, "goals": list(score)}
+                "per_seed": [{"seed": s, "snapshot_left": s % 2 == 0, "goals": list(score)}
                              for s, score in zip(seeds, result.scores, strict=True)],
                 "forfeits": list(result.forfeits), "wall_s": time.perf_counter() - t0}
-            gd = report["opponents"][opponent]["goal_difference_per_match"]
-            print(f"{best} vs {opponent}: {result.summary()}; goal difference per match "
+            gd = goal_difference(result.scores)
+            print(f"{name} vs {opponent}: {result.summary()}; goal difference per match "
                   f"{gd['mean']:+.3f} [{gd['ci95'][0]:+.3f}, {gd['ci95'][1]:+.3f}]",
                   flush=True)
         report_path.parent.mkdir(parents=True, exist_ok=True)

@@ -26,7 +26,7 @@ PAGES = sorted((ROOT / "docs").glob("*.md"))
 # The pages with a code block to run (comms, vision and benchmarks have none today).
 REFERENCE = [p for p in PAGES if list(SYBIL.parse(p))]
 # Pages that need an optional extra; CI installs every extra (scripts/test.sh), so they run there.
-MARKS = {"league.md": [pytest.mark.humanoid]}
+MARKS = {"league.md": [pytest.mark.humanoid], "selfplay.md": [pytest.mark.rl]}
 COPIED = ("benchmarks", "examples")
 
 

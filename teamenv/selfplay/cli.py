@@ -87,7 +87,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
     ratings = commands.add_parser("ratings", help="the ratings and opponents of a run")
     _one_line_errors(ratings)
-    ratings.add_argument("run_dir", type=Path)
+    ratings.add_argument("run_dir", type=Path, help="the run directory of a league")
     ratings.add_argument("--generation", type=_count, default=None,
                          help="after this generation (default: the last rated)")
     ratings.add_argument("--json", type=Path, default=None,
@@ -96,7 +96,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
     curve = commands.add_parser("curve", help="plot the rating curve of a run (PNG)")
     _one_line_errors(curve)
-    curve.add_argument("run_dir", type=Path)
+    curve.add_argument("run_dir", type=Path, help="the run directory of a league")
     curve.add_argument("--out", type=Path, required=True, help="the PNG to write")
     curve.set_defaults(func=_curve)
 

@@ -288,17 +288,23 @@ def _digest_or_none(pool: SnapshotPool, generation: int) -> str | None:
     return policy_digest(pool.path(generation)) if pool.exists(generation) else None
 
 
-def _episode_summary(episodes, names: dict[str, str]) -> dict[str, dict[str, int]]:
-    """Per opponent (by name): episodes, wins, draws, losses, goals for and against."""
-    out: dict[str, dict[str, int]] = defaultdict(lambda: dict.fromkeys(
+def _episode_summary(episodes, names: dict[str, str]) -> dict[str, dict[str, float]]:
+    """Per opponent (by name): episodes, wins, draws, losses, goals for and against, and the
+    mean episode return (shaping included: the signal the learner had when goals are rare)."""
+    out: dict[str, dict[str, float]] = defaultdict(lambda: dict.fromkeys(
         ("episodes", "wins", "draws", "losses", "goals_for", "goals_against"), 0))
+    returns: dict[str, list[float]] = defaultdict(list)
     for e in episodes or ():
-        row = out[names.get(e.opponent, e.opponent)]
+        name = names.get(e.opponent, e.opponent)
+        row = out[name]
         row["episodes"] += 1
         row["wins" if e.goals_for > e.goals_against else
             "losses" if e.goals_for < e.goals_against else "draws"] += 1
         row["goals_for"] += e.goals_for
         row["goals_against"] += e.goals_against
+        returns[name].append(e.ret)
+    for name, values in returns.items():
+        out[name]["mean_return"] = round(float(np.mean(values)), 6)
     return {k: out[k] for k in sorted(out)}
 
 

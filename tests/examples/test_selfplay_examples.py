@@ -35,8 +35,8 @@ def test_the_demo_run_writes_its_curve_record_and_evaluation(tmp_path):
                                                                "gen-0002"]
     assert record["rating_tournament_seeds_in_evaluation_range"] == []
     report = json.loads((tmp_path / "evaluation.json").read_text())
-    for opponent in ("chaser", "full"):
-        result = report["opponents"][opponent]
+    for result in (report["opponents"]["chaser"], report["opponents"]["full"],
+                   report["untrained"]["chaser"]):
         assert result["matches"] == 2 and len(result["per_seed"]) == 2
         assert [row["seed"] for row in result["per_seed"]] == [100_000, 100_001]
         low, high = result["goal_difference_per_match"]["ci95"]
