@@ -12,8 +12,9 @@ Phases, each resumable by running the command again:
    have passed (checked after each generation; a generation started is finished);
 2. the rating curve (``--curve``, a PNG) and the run's record (``--json``: per generation the
    opponents, PFSP probabilities, training outcomes, ratings, wall times);
-3. with ``--evaluate N``: the snapshot with the highest Bradley–Terry rating (chosen on the
-   rating matches, whose seeds lie outside the evaluation range) plays ``chaser`` and
+3. with ``--evaluate N``: the trained snapshot (generation >= 1) with the highest
+   Bradley–Terry rating (chosen on the rating matches, whose seeds lie outside the evaluation
+   range) plays ``chaser`` and
    ``full`` N matches each on the evaluation seeds (``teamenv.seeds``), sides alternating
    (``teamenv.headtohead``), and the untrained snapshot 0 plays ``chaser`` on the same seeds
    (what training changed); the goal difference per match with a 95 % bootstrap interval
@@ -40,7 +41,7 @@ from teamenv.selfplay.config import LeagueConfig
 from teamenv.selfplay.curve import plot_rating_curve
 from teamenv.selfplay.league import generation_seed, run_league
 from teamenv.selfplay.league_store import LEAGUE_DB, LeagueStore
-from teamenv.selfplay.rating import RatingSetup, rating_gauntlet
+from teamenv.selfplay.rating import RatingSetup, rating_tournament
 from teamenv.selfplay.snapshots import SnapshotPool
 from teamenv.selfplay.training_setup import TrainingSetup
 
@@ -55,7 +56,7 @@ def demo_config(smoke: bool) -> LeagueConfig:
             learner_options={"copies": 1, "n_steps": 64, "batch_size": 64, "n_epochs": 2})
     return LeagueConfig(
         seed=0, steps_per_generation=30_000, builtins=("chaser", "static", "full"),
-        training=TrainingSetup(team_size=3, episode_s=30.0),
+        training=TrainingSetup(team_size=3, episode_s=60.0),
         rating=RatingSetup(games_per_pairing=1, half_time_s=45.0, halves=2, recent=2),
         learner_options={"copies": 4, "n_steps": 256, "batch_size": 512, "n_epochs": 10})
 
@@ -127,13 +128,16 @@ def main(argv: list[str] | None = None) -> None:
                  "ratings": store.ratings(r.generation).to_json()}
                 for r in store.generations() if r.rated]
     pool = SnapshotPool(run_dir, config.training)
-    rating_seeds = sorted({seed for g in range(last + 1) for seed in rating_gauntlet(
-        g, pool.spec(g), config.builtins, config.training.field, config.training.team_size,
-        config.rating, generation_seed(config.seed, g, "rating")).round_seeds()})
+    rating_seeds = sorted({seed for g in range(last + 1) for seed in rating_tournament(
+        g, pool.spec(g), config.builtins, [], config.training.field,
+        config.training.team_size, config.rating,
+        generation_seed(config.seed, g, "rating")).round_seeds()})
     out = {"command": "python benchmarks/selfplay_league.py " + " ".join(
                sys.argv[1:] if argv is None else argv),
            "config": config.to_json(), "generations_rated": last,
-           "wall_s_this_call": league_wall_s, "generations": rows,
+           "wall_s_this_call": league_wall_s,
+           "league_wall_s": sum(r["train_wall_s"] + r["rate_wall_s"] for r in rows),
+           "generations": rows,
            "final_ratings": final.to_json(),
            "rating_tournament_seeds_in_evaluation_range": [
                s for s in rating_seeds if s in EVALUATION_SEEDS]}
@@ -142,8 +146,8 @@ def main(argv: list[str] | None = None) -> None:
     print(f"wrote {curve} and {record}")
 
     if args.evaluate:
-        snapshots = [t for t in final.bradley_terry if t.startswith("gen-")]
-        best = snapshots[0]  # bradley_terry is ordered best first
+        # the best trained snapshot (generation >= 1; bradley_terry is ordered best first)
+        best = next(t for t in final.bradley_terry if t.startswith("gen-") and t != "gen-0000")
         generation = int(best.split("-")[1])
         policy = args.policy or (run_dir / "best.npz" if smoke else
                                  Path("examples/policies/selfplay_3v3.npz"))

@@ -15,7 +15,8 @@ Generation 0 is the untrained network. Generation g >= 1:
 2. the learner, loaded from its checkpoint of generation g-1, trains
    ``steps_per_generation`` agent-decisions against opponents drawn per episode from that mix;
 3. its checkpoint and snapshot g are saved, and the generation recorded as trained;
-4. snapshot g plays its rating gauntlet, and every team's ratings are refitted and recorded.
+4. snapshot g plays its rating gauntlet (snapshot 0: a round robin with the built-in teams),
+   and every team's ratings are refitted and recorded.
 
 Deterministic given the configuration: every seed derives from the run's seed and the
 generation (``generation_seed``), the learner always continues from its saved checkpoint (an
@@ -50,7 +51,7 @@ from teamenv.selfplay.rating import (
     expected_score,
     league_ratings,
     play_gauntlet,
-    rating_gauntlet,
+    rating_tournament,
 )
 from teamenv.selfplay.snapshots import SnapshotPool, policy_digest, snapshot_name
 from teamenv.tournament.errors import TournamentError
@@ -259,10 +260,10 @@ class League:
         start = time.perf_counter()
         c = self.config
         recent = range(max(0, g - c.rating.recent), g)
-        tournament = rating_gauntlet(g, self.pool.spec(g),
-                                     [*self.builtins, *(self.pool.spec(k) for k in recent)],
-                                     c.training.field, c.training.team_size, c.rating,
-                                     generation_seed(c.seed, g, "rating"))
+        tournament = rating_tournament(g, self.pool.spec(g), self.builtins,
+                                       [self.pool.spec(k) for k in recent], c.training.field,
+                                       c.training.team_size, c.rating,
+                                       generation_seed(c.seed, g, "rating"))
         play_gauntlet(self.run_dir / RATINGS_DB, tournament, self.backend, self.jobs)
         ratings = league_ratings(self.run_dir / RATINGS_DB, g, self.names(g + 1),
                                  c.rating.n_bootstrap, c.seed)

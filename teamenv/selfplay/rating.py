@@ -3,11 +3,12 @@
 Every new snapshot plays a gauntlet (``teamenv.tournament``) against every built-in opponent
 and the ``recent`` snapshots before it: ``games_per_pairing`` seeded rounds per pairing, each
 played from both sides, full matches (``half_time_s`` x ``halves``) on the training field and
-team size. Each gauntlet is one tournament, ``gen-0003``, in the run's ``ratings.sqlite``:
-stored match by match, so a killed rating resumes where it stopped (``run_tournament``'s
-resume) and loses nothing.
+team size; the untrained snapshot 0 plays a round robin with the built-in teams instead, so
+they meet each other once too. Each is one tournament, ``gen-0003``, in the run's
+``ratings.sqlite``: stored match by match, so a killed rating resumes where it stopped
+(``run_tournament``'s resume) and loses nothing.
 
-The ratings after generation g are fitted to every match of the gauntlets ``gen-0000`` ..
+The ratings after generation g are fitted to every match of the tournaments ``gen-0000`` ..
 ``gen-g`` together (``teamenv.tournament.ratings.compute_ratings``: Bradley–Terry with a
 bootstrap interval over matches, and sequential Elo in schedule order, both on the Elo scale,
 mean 1500). Built-in teams are rated in every gauntlet, so they anchor the scale across
@@ -25,7 +26,7 @@ import numpy as np
 
 from teamenv.errors import ConfigError
 from teamenv.match import MatchOptions
-from teamenv.tournament import ResultStore, gauntlet, run_tournament
+from teamenv.tournament import ResultStore, gauntlet, round_robin, run_tournament
 from teamenv.tournament.ratings import Ratings, compute_ratings
 from teamenv.tournament.runner import TournamentSummary
 from teamenv.tournament.schedule import Tournament
@@ -68,14 +69,20 @@ def gauntlet_name(generation: int) -> str:
     return f"gen-{generation:04d}"
 
 
-def rating_gauntlet(generation: int, challenger: TeamSpec, opponents: Sequence[TeamSpec],
-                    field: str, team_size: int, rating: RatingSetup, seed: int) -> Tournament:
-    """The gauntlet that rates the snapshot of ``generation`` (``challenger``)."""
+def rating_tournament(generation: int, snapshot: TeamSpec, builtins: Sequence[TeamSpec],
+                      earlier: Sequence[TeamSpec], field: str, team_size: int,
+                      rating: RatingSetup, seed: int) -> Tournament:
+    """The tournament that rates the snapshot of ``generation``: for generation 0 a round
+    robin of the untrained snapshot and the built-in teams (the built-in teams meet each
+    other once, which anchors the scale), later a gauntlet of the snapshot against the
+    built-in teams and the ``earlier`` snapshots."""
     options = MatchOptions(field=field, team_size=team_size, half_time_s=rating.half_time_s,
                            halves=rating.halves)
-    return gauntlet(gauntlet_name(generation), challenger, list(opponents),
-                    games_per_pairing=rating.games_per_pairing, swap_sides=True, seed=seed,
-                    options=options)
+    common = {"games_per_pairing": rating.games_per_pairing, "swap_sides": True, "seed": seed,
+              "options": options}
+    if generation == 0:
+        return round_robin(gauntlet_name(0), [snapshot, *builtins], **common)
+    return gauntlet(gauntlet_name(generation), snapshot, [*builtins, *earlier], **common)
 
 
 def play_gauntlet(db: str | Path, tournament: Tournament, backend: str = "process",

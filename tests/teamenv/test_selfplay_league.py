@@ -63,7 +63,7 @@ def test_a_run_resumed_generation_by_generation_equals_an_uninterrupted_one(tmp_
     assert got == want
     records, ratings, matches = want
     assert [r["snapshot"] for r in records] == ["gen-0000", "gen-0001", "gen-0002"]
-    assert len(matches) == 4 + 6 + 6  # gauntlets: 2 built-ins (+1 recent snapshot), x2 sides
+    assert len(matches) == 6 + 6 + 6  # round robin of 3, then gauntlets of 3 pairings; x2 sides
     # generation 2 drew from the built-ins and both earlier snapshots, as PFSP weighted them
     opponents = records[2]["opponents"]
     assert [o["team"] for o in opponents] == ["chaser", "static", "gen-0000", "gen-0001"]
