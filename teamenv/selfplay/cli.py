@@ -32,7 +32,7 @@ _CONFIG_OPTIONS = (
     ("--field", "field", str, "field preset (default simspark)"),
     ("--team-size", "team_size", int, "players per side (default 3)"),
     ("--episode-seconds", "episode_s", float,
-     "game seconds per training episode (default 30)"),
+     "game seconds per training episode (default 60)"),
     ("--observation", "observation", str,
      "egocentric (nearest-player slots, default) | box (the env's row)"),
     ("--teammate-slots", "teammate_slots", int, "egocentric teammate slots (default 2)"),

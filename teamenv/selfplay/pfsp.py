@@ -34,6 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+import portable_math as pm
 from teamenv.errors import ConfigError
 from teamenv.tournament.spec import TeamSpec, parse_team_spec
 
@@ -57,7 +58,7 @@ def pfsp_weights(p_win: Sequence[float], weighting: str = "hard",
     if p.ndim != 1 or not np.all((p >= 0.0) & (p <= 1.0)):
         raise ConfigError(f"pfsp: p_win must be probabilities in [0, 1], got {list(p_win)}")
     if weighting == "hard":
-        return (1.0 - p) ** exponent
+        return np.asarray(pm.power(1.0 - p, float(exponent)), dtype=float)
     if weighting == "variance":
         return p * (1.0 - p)
     if weighting == "linear":

@@ -22,8 +22,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
-import numpy as np
-
+import portable_math as pm
 from teamenv.errors import ConfigError
 from teamenv.match import MatchOptions
 from teamenv.tournament import ResultStore, gauntlet, round_robin, run_tournament
@@ -116,4 +115,4 @@ def expected_score(ratings: Ratings, team: str, opponent: str) -> float:
     if team not in bt or opponent not in bt:
         return 0.5
     diff = bt[team].rating - bt[opponent].rating
-    return float(1.0 / (1.0 + np.power(10.0, -diff / 400.0)))
+    return float(1.0 / (1.0 + pm.power(10.0, -diff / 400.0)))

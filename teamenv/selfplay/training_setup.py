@@ -11,6 +11,7 @@ from dataclasses import field as dataclass_field
 from typing import Any
 
 import locomotion
+import portable_math as pm
 from teamenv.actions import BOX_SIZE
 from teamenv.capabilities import DEFAULT_LOCOMOTION_PROFILE
 from teamenv.errors import ConfigError
@@ -119,7 +120,7 @@ class TrainingSetup:
 
     field: str = "simspark"
     team_size: int = 3
-    episode_s: float = 30.0
+    episode_s: float = 60.0
     observation: str = "egocentric"
     teammate_slots: int = 2
     opponent_slots: int = 3
@@ -167,7 +168,7 @@ class TrainingSetup:
     @property
     def cycle_gamma(self) -> float:
         """The discount per env cycle: ``gamma ** (1 / action_repeat)``."""
-        return float(self.gamma ** (1.0 / self.actions.action_repeat))
+        return float(pm.power(float(self.gamma), 1.0 / self.actions.action_repeat))
 
     def to_json(self) -> dict[str, Any]:
         data = asdict(self)
