@@ -18,8 +18,8 @@ from teamenv.selfplay.rating import RatingSetup
 from teamenv.selfplay.training_setup import TrainingSetup
 from teamenv.tournament.spec import parse_team_spec
 
-#: Built-in opponents of the default league: the ball chaser, a team that stands still (an
-#: easy first opponent) and the full strategy team.
+#: Built-in opponents of the default league: the ball chaser, a team whose players hold fixed
+#: spots in their own half (an easy first opponent) and the full strategy team.
 DEFAULT_BUILTINS = ("chaser", "static", "full")
 
 

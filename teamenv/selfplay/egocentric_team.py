@@ -95,7 +95,7 @@ class EgocentricPolicy:
 class EgocentricPolicyTeamConfig:
     """``path``: a ``teamenv-mlp-v1`` file, with or without egocentric slots."""
 
-    path: str | None = None
+    path: str | Path | None = None
 
 
 class EgocentricPolicyTeam:
