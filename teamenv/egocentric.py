@@ -31,8 +31,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from teamenv.box_layout import PLAYER_COLUMNS
 from teamenv.errors import ConfigError
-from teamenv.slots import PLAYER_COLUMNS, state_slot_names
+from teamenv.slots import state_slot_names
 
 #: The parts of the Box observation kept as they are, in output order before the slots.
 _HEAD_PARTS = ("self.", "ball.")

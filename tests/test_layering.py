@@ -162,7 +162,7 @@ def test_no_module_imports_itself_back():
 APPLICATION_TIERS = (
     ("match", "analytics", "render", "policy_team"),
     ("headtohead", "tournament"),
-    ("optimize", "viewer", "league"),
+    ("optimize", "viewer", "league", "selfplay"),
     ("cli",),
 )
 TIER_OF = {app: k for k, tier in enumerate(APPLICATION_TIERS) for app in tier}

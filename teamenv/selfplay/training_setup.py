@@ -12,7 +12,7 @@ from typing import Any
 
 import locomotion
 import portable_math as pm
-from teamenv.actions import BOX_SIZE
+from teamenv.box_layout import ACTION_SIZE
 from teamenv.capabilities import DEFAULT_LOCOMOTION_PROFILE
 from teamenv.errors import ConfigError
 from teamenv.field import field_preset
@@ -61,15 +61,15 @@ class ActionSetup:
         object.__setattr__(self, "scale", tuple(float(s) for s in self.scale))
         object.__setattr__(self, "fixed", tuple(float(f) for f in self.fixed))
         if not self.learned or len(set(self.learned)) != len(self.learned) or \
-                not all(0 <= k < BOX_SIZE for k in self.learned):
-            raise ConfigError(f"actions: learned must be distinct Box entries in 0..{BOX_SIZE - 1},"
+                not all(0 <= k < ACTION_SIZE for k in self.learned):
+            raise ConfigError(f"actions: learned must be distinct Box entries in 0..{ACTION_SIZE - 1},"
                               f" got {list(self.learned)}")
         if len(self.scale) != len(self.learned) or \
                 not all(math.isfinite(s) and s > 0 for s in self.scale):
             raise ConfigError(f"actions: scale needs one finite number > 0 per learned entry, got "
                               f"{list(self.scale)}")
-        if len(self.fixed) != BOX_SIZE or not all(-1.0 <= f <= 1.0 for f in self.fixed):
-            raise ConfigError(f"actions: fixed needs {BOX_SIZE} values in [-1, 1], got "
+        if len(self.fixed) != ACTION_SIZE or not all(-1.0 <= f <= 1.0 for f in self.fixed):
+            raise ConfigError(f"actions: fixed needs {ACTION_SIZE} values in [-1, 1], got "
                               f"{list(self.fixed)}")
         if self.walk_to_ball and not self.kick_gate:
             raise ConfigError("actions: walk_to_ball needs kick_gate (where the walk stops)")

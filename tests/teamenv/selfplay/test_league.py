@@ -30,7 +30,7 @@ SETUP = TrainingSetup(team_size=2, episode_s=1.0)
 CONFIG = LeagueConfig(
     seed=4, steps_per_generation=48, builtins=("chaser", "static"), training=SETUP,
     rating=RatingSetup(half_time_s=10.0, halves=1, recent=1, n_bootstrap=20),
-    learner="tests.teamenv.selfplay_learners:NoiseLearner")
+    learner="tests.teamenv.selfplay.noise_learner:NoiseLearner")
 
 
 def league_contents(run_dir):

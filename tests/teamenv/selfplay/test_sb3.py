@@ -25,10 +25,10 @@ from teamenv.selfplay.pfsp import OpponentMix  # noqa: E402
 from teamenv.selfplay.sb3_learner import PPOLearner  # noqa: E402
 from teamenv.selfplay.snapshots import SnapshotPool  # noqa: E402
 from teamenv.selfplay.training_setup import TrainingSetup, kick_gate_m  # noqa: E402
-from tests.teamenv.test_selfplay_league import league_contents  # noqa: E402
+from tests.teamenv.selfplay.test_league import league_contents  # noqa: E402
 
 pytestmark = pytest.mark.rl
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 ARGS = ["--generations", "2", "--seed", "3", "--steps", "192", "--builtins", "chaser,static",
         "--team-size", "3", "--episode-seconds", "2", "--rating-half-time", "10",
         "--rating-halves", "1", "--rating-recent", "1", "--bootstrap", "20",
