@@ -38,10 +38,10 @@ class HeadToHead:
         return wins, len(self.scores) - wins - losses, losses
 
     def summary(self) -> str:
-        w, d, l = self.record
+        won, drawn, lost = self.record
         ga, gb = self.goals
         return (f"{self.team_a} vs {self.team_b}: aggregate {ga}-{gb} over {len(self.scores)} "
-                f"matches (W{w} D{d} L{l}); per seed {list(self.scores)}")
+                f"matches (W{won} D{drawn} L{lost}); per seed {list(self.scores)}")
 
 
 def _one(task: tuple[str, str, int, MatchOptions, dict, dict]) -> tuple[int, int, str]:

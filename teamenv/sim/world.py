@@ -120,7 +120,7 @@ class World:
         shapes: list[pymunk.Shape] = []
         wall_r = 0.05
         corners = [(-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy)]
-        for a, b in zip(corners, corners[1:] + corners[:1]):
+        for a, b in zip(corners, corners[1:] + corners[:1], strict=True):
             shapes.append(self._static(pymunk.Segment(static, a, b, wall_r), WALL, 0.5))
         for sign in (-1.0, 1.0):
             line_x = sign * f.half_length
@@ -244,7 +244,7 @@ class World:
 
     def _set_player_velocities(self, world_velocity: np.ndarray) -> None:
         if self._batch is None:
-            for body, (vx, vy, omega) in zip(self.players, world_velocity.tolist()):
+            for body, (vx, vy, omega) in zip(self.players, world_velocity.tolist(), strict=True):
                 body.velocity = (vx, vy)
                 body.angular_velocity = omega
             return

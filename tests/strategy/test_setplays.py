@@ -135,7 +135,7 @@ def test_their_set_plays_keep_the_distance(field, n):
     env, _ = scenes.make_env(field=field, team_size=n, left="full", right="static",
                              profile_phases=False)
     spy = RefereeSpy(env)
-    ref, f = env.sim.referee, env.field
+    ref = env.sim.referee
     players = env.teams["left"].players
     rule = ref.rules.set_play_distance
     for _ in range(120):

@@ -86,7 +86,7 @@ def test_no_nan_and_ball_in_world_after_100k_random_steps():
             env.reset(seed=steps)
         acts = rng.uniform(-1, 1, (len(env.agents), 9))
         acts[:, 3] = np.where(rng.random(len(env.agents)) < 0.2, 1.0, -1.0)  # kick often
-        env.step(dict(zip(env.agents, acts)))
+        env.step(dict(zip(env.agents, acts, strict=True)))
         steps += 1
         if steps % 100 == 0:
             state = env.state()

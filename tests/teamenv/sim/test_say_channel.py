@@ -32,7 +32,7 @@ def test_hearing_capacity_one_teammate_message_every_two_cycles():
         heard_by_left_1.append(len(texts))
     # Capacity 2, +1 per cycle, -2 per message: at most one teammate message every 2 cycles.
     assert sum(heard_by_left_1) == 4
-    assert all(a + b <= 1 for a, b in zip(heard_by_left_1, heard_by_left_1[1:]))
+    assert all(a + b <= 1 for a, b in zip(heard_by_left_1, heard_by_left_1[1:], strict=False))
 
 
 def test_capacity_refills_during_silent_cycles():
