@@ -19,6 +19,7 @@ from typing import Any
 
 from teamenv.errors import ConfigError
 from teamenv.tournament.ratings import Rating, Ratings
+from teamenv.tournament.store import immediate_transaction
 
 LEAGUE_DB = "league.sqlite"
 FORMAT = "teamenv-selfplay-v1"
@@ -109,7 +110,7 @@ class LeagueStore:
         return None if text is None else json.loads(text)
 
     def set_config(self, config: Mapping[str, Any]) -> None:
-        with self._transaction():
+        with immediate_transaction(self.conn):
             self.conn.execute("INSERT INTO meta VALUES ('format', ?)", (FORMAT,))
             self.conn.execute("INSERT INTO meta VALUES ('config', ?)",
                               (json.dumps(config, sort_keys=True),))
@@ -130,7 +131,7 @@ class LeagueStore:
                        opponents: list[dict[str, Any]], training: dict[str, Any],
                        train_wall_s: float) -> None:
         """Generation ``generation`` is trained (replaces an earlier unrated record of it)."""
-        with self._transaction():
+        with immediate_transaction(self.conn):
             self.conn.execute("DELETE FROM ratings WHERE generation=?", (generation,))
             self.conn.execute("DELETE FROM generations WHERE generation=?", (generation,))
             self.conn.execute(
@@ -141,7 +142,7 @@ class LeagueStore:
 
     def record_rated(self, generation: int, ratings: Ratings, rate_wall_s: float) -> None:
         """Generation ``generation`` is rated: every team's ratings after it."""
-        with self._transaction():
+        with immediate_transaction(self.conn):
             updated = self.conn.execute(
                 "UPDATE generations SET rated=1, rate_wall_s=?, n_games=?, n_bootstrap=?, "
                 "confidence=? WHERE generation=?",
@@ -180,17 +181,3 @@ class LeagueStore:
                 break
             last = record.generation
         return last
-
-    class _Txn:
-        def __init__(self, conn: sqlite3.Connection) -> None:
-            self.conn = conn
-
-        def __enter__(self) -> sqlite3.Connection:
-            self.conn.execute("BEGIN IMMEDIATE")
-            return self.conn
-
-        def __exit__(self, exc_type: Any, *rest: Any) -> None:
-            self.conn.execute("ROLLBACK" if exc_type else "COMMIT")
-
-    def _transaction(self) -> LeagueStore._Txn:
-        return LeagueStore._Txn(self.conn)

@@ -13,6 +13,7 @@ import json
 import sqlite3
 import time
 from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -108,6 +109,19 @@ _MATCH_COLUMNS = (
 )
 
 
+
+@contextmanager
+def immediate_transaction(conn: sqlite3.Connection) -> Iterator[sqlite3.Connection]:
+    """``BEGIN IMMEDIATE`` (the write lock up front, so concurrent writers wait instead of
+    failing mid-transaction), then ``COMMIT``, or ``ROLLBACK`` when the block raises."""
+    conn.execute("BEGIN IMMEDIATE")
+    try:
+        yield conn
+    except BaseException:
+        conn.execute("ROLLBACK")
+        raise
+    conn.execute("COMMIT")
+
 @dataclass(frozen=True)
 class MatchRecord:
     """One stored match (scores in goals; times in seconds; ``goals`` in order)."""
@@ -173,7 +187,7 @@ class ResultStore:
             self.conn.execute(f"PRAGMA synchronous={synchronous}")
             self.conn.execute("PRAGMA foreign_keys=ON")
             self.conn.executescript(_SCHEMA)  # idempotent (IF NOT EXISTS)
-            with self._transaction():
+            with immediate_transaction(self.conn):
                 row = self.conn.execute("SELECT value FROM meta WHERE key='schema'").fetchone()
                 if row is None:
                     self.conn.execute("INSERT INTO meta VALUES ('schema', ?)",
@@ -193,20 +207,6 @@ class ResultStore:
 
     def __exit__(self, *exc: Any) -> None:
         self.close()
-
-    class _Txn:
-        def __init__(self, conn: sqlite3.Connection) -> None:
-            self.conn = conn
-
-        def __enter__(self) -> sqlite3.Connection:
-            self.conn.execute("BEGIN IMMEDIATE")
-            return self.conn
-
-        def __exit__(self, exc_type: Any, *rest: Any) -> None:
-            self.conn.execute("ROLLBACK" if exc_type else "COMMIT")
-
-    def _transaction(self) -> ResultStore._Txn:
-        return ResultStore._Txn(self.conn)
 
     # -- tournaments -----------------------------------------------------------------------
     def tournament_names(self) -> list[str]:
@@ -237,7 +237,7 @@ class ResultStore:
 
     def create_tournament(self, tournament: Tournament, versions: dict[str, str]) -> int:
         """Store a new tournament definition and its teams' versions; return its id."""
-        with self._transaction() as conn:
+        with immediate_transaction(self.conn) as conn:
             try:
                 cur = conn.execute(
                     "INSERT INTO tournaments (name, definition, definition_hash, n_matches, "
@@ -288,7 +288,7 @@ class ResultStore:
     def _insert_match(self, tournament_id: int, task: MatchTask, result: MatchResult) -> bool:
         fo = result.forfeit
         official = result.official_score
-        with self._transaction() as conn:
+        with immediate_transaction(self.conn) as conn:
             cur = conn.execute(
                 "INSERT INTO matches (tournament_id, idx, round, pairing, seed, "
                 "swapped, match_key, left_team, right_team, left_score, right_score, "
@@ -320,7 +320,7 @@ class ResultStore:
 
     def record_failure(self, tournament_id: int, task: MatchTask, error: str) -> None:
         """Note a match that could not be played (it is not a result; resume retries it)."""
-        with self._transaction() as conn:
+        with immediate_transaction(self.conn) as conn:
             conn.execute("INSERT INTO failures (tournament_id, idx, error, time_utc) "
                          "VALUES (?, ?, ?, ?)", (tournament_id, task.index, error, _utc()))
 
@@ -332,7 +332,7 @@ class ResultStore:
         if row is None:
             return False
         teams = stats.to_json()["teams"]
-        with self._transaction() as conn:
+        with immediate_transaction(self.conn) as conn:
             cur = conn.executemany(
                 "INSERT OR IGNORE INTO team_stats VALUES (?, ?, ?, ?, ?, ?, ?, ?)",
                 [(int(row[0]), side, t["team"], int(t["goals"]), float(t["xg"]),
