@@ -146,8 +146,7 @@ class PositioningAgent:
         cycle = self.cycle
         self.cycle += 1
         if votes is None:
-            votes = [v for v in (decode_role_vote(t, self.n, self.channel) for t in heard)
-                     if v is not None]
+            votes = self.heard_votes(heard)
         for sender, vector in votes:
             if 0 <= sender < self.n:
                 self.voter.hear(sender, vector, cycle, validate=False)  # decoder checked it
@@ -167,6 +166,11 @@ class PositioningAgent:
             say = encode_role_vote(self.me, own.position_of, self.n, self.channel)
         return PositioningDecision(positions[k].copy(), k, own.position_of, team, positions, say,
                                    own.max_distance)
+
+    def heard_votes(self, heard: Sequence[str]) -> list[tuple[int, NDArray[np.intp]]]:
+        """The (sender, role vector) votes among the ``heard`` texts (others are ignored)."""
+        return [v for v in (decode_role_vote(t, self.n, self.channel) for t in heard)
+                if v is not None]
 
     def _assign(self, f: Formation, view: WorldView):
         """Formation lookup, marking and role assignment for ``view`` (a pure function)."""

@@ -14,11 +14,11 @@ from typing import Any
 from strategy.behaviours.control import team_actions
 from strategy.behaviours.skills import Skills
 from strategy.geometry import BallRoll
-from strategy.perception.team_worldmodels import team_world_models
-from strategy.perception.vision_perceiver import VisionPerceiver
+from strategy.perception.perceiver import perceiver_for
 from strategy.positioning.formation.sized import team_formation
 from strategy.teams.full_config import FullTeamConfig
 from strategy.teams.player import Player
+from strategy.teams.talk import talk_for
 from teamenv.errors import ConfigError
 from teamenv.teams import TeamContext
 
@@ -53,24 +53,25 @@ class FullTeam:
         formations = {kind: team_formation(getattr(self.config, key), context.team_size,
                                            context.field)
                       for kind, key in FORMATION_KEYS.items()}
-        self.index = {agent: k for k, agent in enumerate(context.agents)}
+        # one perceiver whatever the observation mode: exact beliefs in one numpy pass
+        # (state), or localization, filtering and team messages per agent (vision)
+        self.perceiver = perceiver_for(context, communicate=self.config.communicate,
+                                       roll=self.skills.ball_roll, ball_rest=True,
+                                       localization=self.config.localization_params())
+        self.talk = talk_for(self.config, self.perceiver)
         memo: dict = {}  # pure results by exact inputs, shared (see strategy.memo)
         self.players = {
             agent: Player(k, agent, context.side, self.config, formations, self.skills,
-                          context.channel, memo, context.cycle_s)
+                          context.channel, memo, self.talk)
             for k, agent in enumerate(context.agents)
         }
-        self.perceiver = VisionPerceiver(
-            context, communicate=self.config.communicate,
-            localization=self.config.localization_params(),
-            roll=self.skills.ball_roll) if context.observation_mode == "vision" else None
 
     def reset(self, seed: int) -> None:
         # decisions are deterministic; the seed drives the particle filters of vision mode
         for player in self.players.values():
             player.reset()
-        if self.perceiver is not None:
-            self.perceiver.reset(seed)
+        self.talk.reset()
+        self.perceiver.reset(seed)
 
     def annotations(self) -> dict[str, dict[str, Any]]:
         """What each agent believed and decided last cycle, for replays with extras
@@ -86,17 +87,11 @@ class FullTeam:
         return out
 
     def act(self, observations: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[str, Any]]:
-        if self.perceiver is None:  # state mode: the team's world models in one pass
-            beliefs = team_world_models(observations, self.index, self.context.field,
-                                        self.skills.ball_roll, ball_rest=True)
-            requests = {agent: self.players[agent].decide(wm) for agent, wm in beliefs.items()}
-            # the team's walk commands in one pass, clipped in one pass
-            return team_actions(requests, self.low, self.high)
-        beliefs = self.perceiver.update(observations)
         requests = {}
-        for agent, wm in beliefs.items():
+        for agent, wm in self.perceiver.update(observations).items():
             player = self.players[agent]
-            request = requests[agent] = player.decide(wm, self.perceiver.reports[player.me])
+            request = requests[agent] = player.decide(wm)
             if request.beam is not None:
                 self.perceiver.beamed(player.me, request.beam)
+        # the team's walk commands in one pass, clipped in one pass
         return team_actions(requests, self.low, self.high)

@@ -7,7 +7,7 @@ of it) and returns its action; a team is a dict of independent ``Player`` object
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -18,19 +18,11 @@ from strategy.behaviours.motion import search_ball
 from strategy.behaviours.skills import Skills
 from strategy.decision import FieldPlayerDecisionMaker, GoalieDecisionMaker
 from strategy.decision.setplays import Situation, situation, we_kick_off_next
-from strategy.perception.team_message import (
-    TeamReport,
-    encode_team_report,
-    team_message_schema,
-)
 from strategy.perception.worldmodel import WorldModel, shared
 from strategy.positioning import PositioningAgent
 from strategy.positioning.formation.model import Formation
 from strategy.teams.full_config import FullTeamConfig
-
-TALK_PERIOD_CYCLES = 2
-"""In ``vision`` mode one teammate speaks every this many cycles (the simspark channel lets a
-listener hear one teammate message per 2 cycles)."""
+from strategy.teams.talk import RoleVoteTalk, TeamReportTalk
 
 
 class Player:
@@ -49,11 +41,14 @@ class Player:
         memo: a cache the team's players share (``strategy.memo``): positioning results
             and the decision makers' team-wide facts (who reaches the ball first, whether we
             control it), so agents that believe the same share the work.
+        talk: the team's talk protocol (``strategy.teams.talk``); None: role votes
+            (``state`` mode).
     """
 
     def __init__(self, me: int, name: str, side: str, config: FullTeamConfig,
                  formations: Mapping[str, Formation], skills: Skills, channel: str,
-                 memo: dict | None = None, cycle_s: float = 0.02) -> None:
+                 memo: dict | None = None,
+                 talk: RoleVoteTalk | TeamReportTalk | None = None) -> None:
         self.me, self.name, self.side = me, name, side
         self.config = config
         self.formations = dict(formations)
@@ -71,8 +66,7 @@ class Player:
                                                      memo)
         self.memo = memo
         self.channel = channel
-        self.cycle_s = cycle_s
-        self.schema = None
+        self.talk = RoleVoteTalk(config) if talk is None else talk
         self._beam_slots: dict[int, NDArray[np.float64]] = {}  # by formation (held for life)
         self.reset()
 
@@ -82,7 +76,6 @@ class Player:
         self.last_request = ControlRequest()
         self.last_decision = None
         self.last_world_model: WorldModel | None = None
-        self.said_vector: NDArray[np.intp] | None = None
 
     def perceive(self, obs: Mapping[str, Any]) -> WorldModel:
         return WorldModel.from_observation(obs, self.me, self.skills.field, self.name,
@@ -111,38 +104,23 @@ class Player:
         """This cycle's control request, from this agent's ``state`` observation alone."""
         return self.decide(self.perceive(obs))
 
-    def decide(self, wm: WorldModel,
-               reports: Sequence[TeamReport] | None = None) -> ControlRequest:
+    def decide(self, wm: WorldModel) -> ControlRequest:
         """This cycle's control request from this agent's belief ``wm``.
 
-        ``reports``: the team messages it heard this cycle, decoded (``vision`` mode). Then
-        the role votes come from them, the agent counts as its own vote the vector it last
-        said (what its teammates hold, so agents who heard the same agree), and it says a
-        team message (role vector, pose, ball) in its slot of the schedule: one speaker every
-        ``TALK_PERIOD_CYCLES``, in uniform-number order, so every listener can hear every
-        teammate under the simspark channel's hearing limit (one teammate per 2 cycles).
-        Without ``reports`` (``state`` mode) it says and hears ``role_vote`` texts.
+        One path for both observation modes: the team's ``talk`` protocol
+        (``strategy.teams.talk``) says which role votes the agent heard, what it counts as
+        its own vote and what it says this cycle.
         """
-        c = self.config
+        talk = self.talk
         cycle = self.positioning.cycle
         # the anticipated view is a function of the beliefs: their key identifies it
         view = wm.positioning_view(anticipate=True)
         formation = self.formation_for(wm)
-        if reports is None:
-            heard = wm.heard if c.communicate else ()
-            decision = self.positioning.step(view, heard, formation, wm.belief_key or None,
-                                             vote=c.vote,
-                                             since_own_change=c.vote_since_own_change)
-            say = decision.say
-        else:
-            votes = [(r.sender, r.roles) for r in reports] if c.communicate else []
-            decision = self.positioning.step(view, (), formation, wm.belief_key or None,
-                                             votes=votes, own_ballot=self.said_vector,
-                                             vote=c.vote and c.communicate)
-            say = ""
-            if c.communicate and self.my_turn_to_talk(cycle):
-                say = self.team_report(wm, decision.own_vector)
-                self.said_vector = decision.own_vector.copy()
+        decision = self.positioning.step(view, (), formation, wm.belief_key or None,
+                                         votes=talk.votes(self.positioning, wm),
+                                         own_ballot=talk.own_ballot(self.me), vote=talk.vote,
+                                         since_own_change=talk.since_own_change)
+        say = talk.say(self.me, cycle, wm, decision)
         if situation(wm.play_mode) is Situation.BEAM:
             decision = decision._replace(target=self.beam_slot(formation),
                                          position_index=self.me)
@@ -151,7 +129,7 @@ class Player:
             request = self.decision.decide(wm, decision)
         else:
             request = search_ball(wm, self.skills)
-        if c.communicate and say:
+        if say:
             request = request.with_say(say)
         self.last_world_model = wm
         self.last_decision = decision
@@ -169,17 +147,3 @@ class Player:
             slot = self._beam_slots[id(formation)] = \
                 formation.home_positions(np.zeros(2))[self.me].copy()
         return slot.copy()
-
-    def my_turn_to_talk(self, cycle: int) -> bool:
-        """One teammate talks every ``TALK_PERIOD_CYCLES``, in uniform-number order."""
-        n = self.positioning.n
-        return cycle % TALK_PERIOD_CYCLES == 0 and (cycle // TALK_PERIOD_CYCLES) % n == self.me
-
-    def team_report(self, wm: WorldModel, roles: NDArray[np.intp]) -> str:
-        """The team message: my role vector, my pose and my ball belief with its age."""
-        if self.schema is None:
-            self.schema = team_message_schema(self.positioning.n, wm.field, self.channel)
-        known = wm.ball_known
-        return encode_team_report(self.schema, self.me, roles, wm.position, wm.heading,
-                                  wm.fallen, wm.ball if known else None,
-                                  int(round(wm.ball_age_s / self.cycle_s)) if known else 0)
