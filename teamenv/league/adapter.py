@@ -47,6 +47,7 @@ from comms.profiles import get_profile
 from teamenv.landmarks import MJ_MARKS_LEFT, MJ_MARKS_RIGHT
 
 from . import effectors
+from .command_ramp import CommandRamp
 from .controller import CYCLE_S, LocomotionController, WalkerController
 from .errors import LeagueError
 from .falls import is_fallen
@@ -134,8 +135,13 @@ class RequestEncoder:
 
     def __init__(self, controller: LocomotionController, who: str, channel: str = "mj",
                  stand_when_idle: bool = True, kick: KickMotion | None | str = "default",
-                 get_up: GetUpMotion | None | str = "default") -> None:
+                 get_up: GetUpMotion | None | str = "default",
+                 ramp: CommandRamp | None = None) -> None:
         self.controller = controller
+        #: walk requests reach the controller through this ramp (``command_ramp``; None: as
+        #: asked), inside the controller's envelope; it restarts from standing after a beam,
+        #: a motion or an approach to the ball
+        self.ramp = ramp
         self.who = who
         #: a zero walk without a kick sends the controller's standing targets (which resets
         #: its walk, so a later walk starts afresh) instead of walking on the spot
@@ -195,10 +201,14 @@ class RequestEncoder:
         if self.get_up is not None and is_fallen(perception):
             self.get_up.start(perception)
             self._motion, self._walking = self.get_up, None
+            if self.ramp is not None:
+                self.ramp.reset()
             return self._body(request, perception)
         walk = request.walk
         kick = self._latched_kick(request, perception)
         if kick is not None:
+            if self.ramp is not None:   # the kick's approach walks its own commands
+                self.ramp.reset()
             power, direction = kick
             ball = self.ball.body
             if self.kick is None or ball is None:
@@ -219,6 +229,9 @@ class RequestEncoder:
                 return self._step(self.kick.walker if near else self.controller,
                                   approach_command(ball, direction, self.kick.params),
                                   perception)
+        if self.ramp is not None and kick is None:
+            envelope = getattr(self.controller, "envelope", None)
+            walk = self.ramp(walk if envelope is None else envelope.limit(walk))
         if self.stand_when_idle and kick is None and not any(walk):
             self._walking = self.controller
             return self.controller.stand(perception)
@@ -240,6 +253,8 @@ class RequestEncoder:
             # every robot's controls, see docs/league.md): a beam comes with the stance
             self._motion = self._latch = None
             self._walking = self.controller
+            if self.ramp is not None:
+                self.ramp.reset()
             parts += [effectors.beam(*request.beam), self.controller.stand(perception)]
         else:
             parts.append(self._body(request, perception))

@@ -40,6 +40,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="the robots' walk controller: network (the league's reference walking "
                         "network, about 1.2 m/s; the default) or lipm (our LIPM walker, "
                         "about 0.55 m/s)")
+    p.add_argument("--ramp", action="store_true",
+                   help="walk requests change no faster than the t1_league body's "
+                        "accelerations (default: as the team asks them, each cycle)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=_run)
 
@@ -106,7 +109,8 @@ def _play(args: argparse.Namespace) -> int:
 
     walker = {} if args.walker is None else {"walker": args.walker}
     options = LeagueMatchOptions(team_size=args.team_size, game_s=args.seconds,
-                                 kick_off=args.kick_off, server=args.server, **walker)
+                                 kick_off=args.kick_off, server=args.server,
+                                 ramp=args.ramp, **walker)
     if args.db:
         check_league_record(args.db, args.name, args.left, args.right)  # before playing
     bar = tqdm(total=round(args.seconds, 2), unit="s game", disable=args.no_progress,

@@ -39,6 +39,7 @@ from teamenv.teams import team_context as env_team_context
 from teamenv.tournament.spec import parse_team_spec
 
 from .adapter import Request, RequestEncoder
+from .command_ramp import CommandRamp
 from .controller import CYCLE_S, LocomotionController, WalkerController
 from .errors import LeagueError
 from .observation import SAID_MEMORY_CYCLES, VisionObservationBuilder
@@ -55,6 +56,13 @@ FIELD = "mj7v7"
 #: physics by ``benchmarks/calibrate_t1_league.py``), so a team asks for the kicks and walks
 #: its robots have
 LOCOMOTION_PROFILE = "t1_league"
+
+
+def _ramp(options: LeagueMatchOptions) -> CommandRamp | None:
+    """A robot's command ramp: the accelerations of the body the teams plan with."""
+    from locomotion import load_profile
+
+    return CommandRamp.from_profile(load_profile(LOCOMOTION_PROFILE)) if options.ramp else None
 
 
 def _network_walker() -> LocomotionController:
@@ -82,7 +90,10 @@ class LeagueMatchOptions:
     the server's rule book; kick_off: the side that kicks off; server: "real" (rcssservermj,
     a child process, over TCP) or "local" (``LocalServer``: the same simulation, referee and
     protocol code in this process, no sockets; seeded, so the same seed replays a match);
-    walker: the robots' walk controller, a name in ``WALKERS``."""
+    walker: the robots' walk controller, a name in ``WALKERS``; ramp: walk requests change
+    no faster than the ``LOCOMOTION_PROFILE`` body's accelerations
+    (``teamenv.league.command_ramp``; off by default: it did not reduce falls, see
+    docs/league.md)."""
 
     team_size: int = field(default=MAX_TEAM_SIZE, metadata=in_range(1, MAX_TEAM_SIZE))
     game_s: float = field(default=30.0, metadata=positive())
@@ -90,6 +101,7 @@ class LeagueMatchOptions:
     kick_off: str = field(default="Left", metadata=one_of("Left", "Right"))
     server: str = field(default="real", metadata=one_of("real", "local"))
     walker: str = field(default=DEFAULT_WALKER, metadata=one_of(*sorted(WALKERS)))
+    ramp: bool = False
 
     def __post_init__(self) -> None:
         check_fields(self, ConfigError)
@@ -298,7 +310,8 @@ def play_league_match(left: str, right: str, options: LeagueMatchOptions = Leagu
             clients, join, kick_off):
         # walkers first: an active agent that does not answer for 5 s is dropped
         for s, c in zip(sides, clients, strict=True):
-            s.encoders = {u: RequestEncoder(WALKERS[options.walker](), c.who(u))
+            s.encoders = {u: RequestEncoder(WALKERS[options.walker](), c.who(u),
+                                            ramp=_ramp(options))
                           for u in c.unums}
         join(clients)
         recorder = None
@@ -340,7 +353,8 @@ def play_league_match(left: str, right: str, options: LeagueMatchOptions = Leagu
                     kicked_off = True
     if recorder is not None:
         recorder.save(replay_path, {"left": first.label, "right": sides[1].label, "seed": seed,
-                                    "server": options.server, "walker": options.walker})
+                                    "server": options.server, "walker": options.walker,
+                                    "ramp": options.ramp})
     return MatchResult(seed=seed, left=first.label, right=sides[1].label, score=score,
                        goals=tuple(goals), cycles=cycles, wall_s=time.monotonic() - start,
                        team_versions=tuple(team_version(parse_team_spec(s.label).name)
