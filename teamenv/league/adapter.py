@@ -138,9 +138,9 @@ class RequestEncoder:
                  get_up: GetUpMotion | None | str = "default",
                  ramp: CommandRamp | None = None) -> None:
         self.controller = controller
-        #: walk requests reach the controller through this ramp (``command_ramp``; None: as
-        #: asked), inside the controller's envelope; it restarts from standing after a beam,
-        #: a motion or an approach to the ball
+        #: the controller's walks (the team's and the kick approach's) go through this ramp
+        #: (``command_ramp``; None: as asked), inside the controller's envelope; it restarts
+        #: from standing when the controller does (after a beam, a motion or the kick's walker)
         self.ramp = ramp
         self.who = who
         #: a zero walk without a kick sends the controller's standing targets (which resets
@@ -207,8 +207,6 @@ class RequestEncoder:
         walk = request.walk
         kick = self._latched_kick(request, perception)
         if kick is not None:
-            if self.ramp is not None:   # the kick's approach walks its own commands
-                self.ramp.reset()
             power, direction = kick
             ball = self.ball.body
             if self.kick is None or ball is None:
@@ -221,21 +219,31 @@ class RequestEncoder:
                 self.kick.start(perception, direction, min(max(power, 0.0), 1.0), ball=ball)
                 self._motion, self._walking = self.kick, walker
                 self._latch = None        # this kick is played: the request is answered
+                if self.ramp is not None:
+                    self.ramp.reset()     # the controller starts afresh after the kick
                 return self._body(request, perception)
             else:
                 # near the ball the kick's own walker walks the approach, so the kick goes on
                 # in its gait (the controller, if it is another walk, hands over here)
                 near = self.kick.shares_walker and math.hypot(*ball) <= KICK_LATCH_M
-                return self._step(self.kick.walker if near else self.controller,
-                                  approach_command(ball, direction, self.kick.params),
-                                  perception)
-        if self.ramp is not None and kick is None:
-            envelope = getattr(self.controller, "envelope", None)
-            walk = self.ramp(walk if envelope is None else envelope.limit(walk))
+                command = approach_command(ball, direction, self.kick.params)
+                if not near:
+                    return self._step(self.controller, self._ramped(command), perception)
+                if self.ramp is not None:
+                    self.ramp.reset()     # the controller starts afresh after the hand-over
+                return self._step(self.kick.walker, command, perception)
+        walk = self._ramped(walk)
         if self.stand_when_idle and kick is None and not any(walk):
             self._walking = self.controller
             return self.controller.stand(perception)
         return self._step(self.controller, walk, perception)
+
+    def _ramped(self, command):
+        """``command`` inside the controller's envelope, through the ramp (if any)."""
+        if self.ramp is None:
+            return command
+        envelope = getattr(self.controller, "envelope", None)
+        return self.ramp(command if envelope is None else envelope.limit(command))
 
     def _step(self, walker: LocomotionController, command, perception: Perception) -> str:
         """One walk cycle of ``walker``, which starts afresh when another walk (or a motion)

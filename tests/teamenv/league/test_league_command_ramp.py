@@ -102,3 +102,22 @@ def test_the_encoder_ramps_walk_requests_inside_the_envelope_and_stands_when_sto
     RequestEncoder(plain, "agent A_1", kick=None, get_up=None).encode(
         Request(walk=(1.0, 0.0, -1.5)), p)
     assert plain.commands == [(1.0, 0.0, -1.5)]
+
+
+def test_the_kick_approach_on_the_controller_is_ramped_and_the_hand_over_restarts_it():
+    # the recorded perception sees the ball 1-2 m off: the approach walks on the controller
+    p = parse_perception((DATA / "first.txt").read_text().strip())
+    walk = _Walk()
+    ramp = CommandRamp((1.0, 0.5, 2.0))
+    enc = RequestEncoder(walk, "agent A_1", get_up=None, ramp=ramp)
+    enc.encode(Request(kick=(1.0, 0.0)), p)
+    first = walk.commands[-1]
+    assert 0.0 < first[0] <= 0.02 + 1e-12 and abs(first[2]) <= 0.04 + 1e-12
+    for _ in range(5):
+        enc.encode(Request(kick=(1.0, 0.0)), p)
+    vx = [c[0] for c in walk.commands[-6:]]
+    assert all(0.0 < b - a <= 0.02 + 1e-12 for a, b in zip(vx, vx[1:], strict=False)), vx
+    assert ramp.command == walk.commands[-1]
+    # a beam restarts the walk from standing, so does the ramp
+    enc.encode(Request(beam=(-3.0, 0.0, 0.0)), p)
+    assert ramp.command == (0.0, 0.0, 0.0)
