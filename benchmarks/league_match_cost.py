@@ -5,8 +5,10 @@
 
 Plays one match with ``teamenv.league.match.play_league_match`` (``server="local"``: rcsssmj's
 simulation in this process) and times, in CPU time of this process (``time.process_time``),
-each part it passes through: the server's physics step, the server building and encoding the
-perceptions, our perception parser, the server's action parser, our locomotion controllers
+each part it passes through: the server's physics step, the server building (and, with the
+text path, encoding) the perceptions, our perception parser (or, by default on LocalServer,
+the reader of the server's perception objects, ``local_perception``), the server's action
+parser, our locomotion controllers
 (walk, kick, get-up: the request encoders), the observation builder and the team plugins.
 Joining (MuJoCo recompiles the world for each robot) is reported apart: it is paid once per
 match. The parts are timed by wrapping the functions (a few microseconds each), so "other"
@@ -79,6 +81,7 @@ def measure(left: str, right: str, seconds: float, team_size: int, seed: int) ->
             (SoccerSimulation, "generate_perceptions", "server perceptions"),
             (local_server.LocalServer, "_perceive", "server perceptions"),
             (local_server, "parse_perception", "our perception parser"),
+            (local_server, "perception_from_objects", "our perception parser"),
             (DefaultActionParser, "parse_action", "server action parser"),
             (RequestEncoder, "encode", "our controllers"),
             (VisionObservationBuilder, "observe_team", "observation builder"),

@@ -4,9 +4,11 @@ extra).
 
 ``LocalServer`` builds rcsssmj's ``SoccerSimulation`` exactly as ``rcssservermj`` does (rule
 book ``ssim``, its default field ``fifa7vs7``, the referee), adds players through the same
-``add_players`` call, encodes each agent's perceptions with the server's own encoder into the
-wire text and parses them with our parser, and parses our effector text with the server's own
-action parser. What it leaves out is the network and the threads. What it keeps is the timing
+``add_players`` call, turns each agent's perceptions into ours (by default straight from the
+server's perception objects, ``teamenv.league.local_perception``: the same values, bit for bit,
+that the wire text would carry; ``text_perceptions=True`` encodes them with the server's own
+encoder into the wire text and parses that with our parser, as over the network), and parses
+our effector text with the server's own action parser. What it leaves out is the network and the threads. What it keeps is the timing
 of the server's parallel sync mode (the default, what ``LeagueServer`` runs): each cycle the
 server generates the perceptions, then applies the answers to the *previous* perceptions, then
 steps 4 x 5 ms; so an answer to the perception of cycle k moves the robot from cycle k+1 to
@@ -24,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import LeagueError
+from .local_perception import perception_from_objects, perception_text
 from .perception import Perception, parse_perception
 
 
@@ -47,7 +50,7 @@ class LocalServer:
     """
 
     def __init__(self, rules: str = "ssim", field: str | None = None, action_delay: int = 1,
-                 seed: int = 0) -> None:
+                 seed: int = 0, text_perceptions: bool = False) -> None:
         if action_delay not in (0, 1):
             raise LeagueError(f"action_delay must be 0 or 1, not {action_delay!r}")
         from locomotion.humanoid._deps import require
@@ -81,6 +84,8 @@ class LocalServer:
         self._parser = SoccerActionParser()
         self._encoder = DefaultPerceptionEncoder()
         self.action_delay = action_delay
+        #: perceptions through the wire text (encode, parse) instead of from the objects
+        self.text_perceptions = bool(text_perceptions)
         self._agents: dict[tuple[str, int], object] = {}
         self._pending: dict[tuple[str, int], list] = {}
         self._commands: list = []
@@ -185,8 +190,13 @@ class LocalServer:
             np.random.set_state(outer)
 
     def _perceive(self, key: tuple[str, int]) -> Perception:
-        msg = self._encoder.encode(self._agents[key].perceptions)
-        return parse_perception(bytes(msg or b"(syn)").decode("ascii"),
+        objects = self._agents[key].perceptions
+        if not self.text_perceptions:
+            p = perception_from_objects(objects)
+            if p is not None:
+                return p
+        # what the objects cannot give exactly (or asked for): the wire text, parsed
+        return parse_perception(perception_text(objects, self._encoder),
                                 who=f"agent {key[0]} {key[1]}")
 
     def kick_off(self, side: str = "Left") -> None:
