@@ -8,7 +8,9 @@ book ``ssim``, its default field ``fifa7vs7``, the referee), adds players throug
 server's perception objects, ``teamenv.league.local_perception``: the same values, bit for bit,
 that the wire text would carry; ``text_perceptions=True`` encodes them with the server's own
 encoder into the wire text and parses that with our parser, as over the network), and parses
-our effector text with the server's own action parser. What it leaves out is the network and the threads. What it keeps is the timing
+our effector text with the server's own action parser. ``cached_motors`` (the default) gives
+the simulation a motor command that finds each motor's actuators once
+(``teamenv.league.local_motors``; the same controls and gains as rcsssmj's own). What it leaves out is the network and the threads. What it keeps is the timing
 of the server's parallel sync mode (the default, what ``LeagueServer`` runs): each cycle the
 server generates the perceptions, then applies the answers to the *previous* perceptions, then
 steps 4 x 5 ms; so an answer to the perception of cycle k moves the robot from cycle k+1 to
@@ -26,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import LeagueError
+from .local_motors import CachedMotorCommand
 from .local_perception import perception_from_objects, perception_text
 from .perception import Perception, parse_perception
 
@@ -50,7 +53,8 @@ class LocalServer:
     """
 
     def __init__(self, rules: str = "ssim", field: str | None = None, action_delay: int = 1,
-                 seed: int = 0, text_perceptions: bool = False) -> None:
+                 seed: int = 0, text_perceptions: bool = False,
+                 cached_motors: bool = True) -> None:
         if action_delay not in (0, 1):
             raise LeagueError(f"action_delay must be 0 or 1, not {action_delay!r}")
         from locomotion.humanoid._deps import require
@@ -78,6 +82,8 @@ class LocalServer:
         self.sim = SoccerSimulation(field=pitch, rules=book, referee=SoccerReferee())
         if not self.sim.init():
             raise LeagueError("local server: rcsssmj failed to build the world")
+        if cached_motors:   # rcsssmj's motor command without its per-call name look-ups
+            CachedMotorCommand.install(self.sim)
         # as LeagueServer waits for the first monitor message: a player added before the first
         # simulation step crashes rcsssmj 0.2.1's audio engine
         self._in_own_rng(self.sim.step, [])

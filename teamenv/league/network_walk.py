@@ -136,8 +136,12 @@ class WalkNetwork:
 
 
 def _elu(x: np.ndarray) -> np.ndarray:
-    # expm1 of min(x, 0): no overflow for large positive x
-    return np.where(x > 0, x, pm.expm1(np.minimum(x, 0.0)))
+    """x where x > 0, else expm1(x) (``portable_math``: one C-library call per element, so
+    only the elements that keep it are computed; NaN stays NaN)."""
+    out = np.array(x, dtype=np.float64)
+    rest = ~(out > 0)
+    out[rest] = pm.expm1(out[rest])
+    return out
 
 
 def projected_gravity(quat: tuple[float, float, float, float]) -> np.ndarray:

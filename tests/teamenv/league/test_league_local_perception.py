@@ -125,13 +125,13 @@ def test_a_non_finite_value_raises_the_parsers_error(monkeypatch) -> None:
         server._perceive(("A", 1))
 
 
-def _replay(tmp_path, name: str, text: bool, monkeypatch) -> dict:
+def _replay(tmp_path, name: str, fast: bool, monkeypatch) -> dict:
     from teamenv.replay import load_replay
 
     original = ls.LocalServer
 
     def make(*args, **kwargs):
-        return original(*args, text_perceptions=text, **kwargs)
+        return original(*args, text_perceptions=not fast, cached_motors=fast, **kwargs)
 
     monkeypatch.setattr(ls, "LocalServer", make)
     path = tmp_path / name
@@ -144,9 +144,10 @@ def _replay(tmp_path, name: str, text: bool, monkeypatch) -> dict:
         "ball", "players", "fallen", "play_mode", "touch_cycle", "kick_cycle")}}
 
 
-def test_a_match_replays_the_same_with_the_text_path_and_without(tmp_path, monkeypatch) -> None:
-    text = _replay(tmp_path, "text.npz", True, monkeypatch)
-    direct = _replay(tmp_path, "direct.npz", False, monkeypatch)
+def test_a_match_replays_the_same_on_rcsssmjs_own_paths_and_ours(tmp_path, monkeypatch) -> None:
+    """The wire text and rcsssmj's motor command v the object reader and the cached one."""
+    text = _replay(tmp_path, "text.npz", False, monkeypatch)
+    direct = _replay(tmp_path, "direct.npz", True, monkeypatch)
     assert text["score"] == direct["score"]
     for name in ("ball", "players", "fallen", "play_mode", "touch_cycle", "kick_cycle"):
         np.testing.assert_array_equal(text[name], direct[name])
