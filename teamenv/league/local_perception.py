@@ -65,9 +65,17 @@ def _num(value: Any) -> float:
 
 def _name(value: Any) -> str:
     """A name the parser reads back as itself (one atom)."""
-    if type(value) is not str or not _ATOM.fullmatch(value):
+    if type(value) is not str:
         raise _Unhandled
+    if value not in _ATOMS:
+        if not _ATOM.fullmatch(value):
+            raise _Unhandled
+        _ATOMS.add(value)
     return value
+
+
+#: the names ``_name`` has checked (a few hundred: sensors, marks, parts, teams, play modes)
+_ATOMS: set[str] = set()
 
 
 def _floats(values: Any) -> list[float]:
@@ -82,7 +90,13 @@ def _floats(values: Any) -> list[float]:
 
 def _polar(d: Any) -> Polar:
     """``(<name> (pol d az el))`` of an ObjectDetection."""
-    return Polar(_num(d.distance), _radians(_num(d.azimuth)), _radians(_num(d.inclination)))
+    r, a, e = d.distance, d.azimuth, d.inclination
+    if type(r) is type(a) is type(e) is np.float64:      # the server's case, at once
+        r, a, e = float(r), float(a), float(e)
+        if _isfinite(r) and _isfinite(a) and _isfinite(e):
+            return Polar(r, _radians(a), _radians(e))
+        raise _Unhandled
+    return Polar(_num(r), _radians(_num(a)), _radians(_num(e)))
 
 
 # -- one function per rcsssmj perception class, as the parser's function of its perceptor ---

@@ -136,11 +136,12 @@ class WalkNetwork:
 
 
 def _elu(x: np.ndarray) -> np.ndarray:
-    """x where x > 0, else expm1(x) (``portable_math``: one C-library call per element, so
-    only the elements that keep it are computed; NaN stays NaN)."""
+    """x where x > 0, else expm1(min(x, 0)) (``portable_math``: one C-library call per
+    element, so only the elements that keep it are computed; min(-0.0, 0) is +0.0, NaN stays
+    NaN: the bits of ``where(x > 0, x, expm1(minimum(x, 0)))``)."""
     out = np.array(x, dtype=np.float64)
     rest = ~(out > 0)
-    out[rest] = pm.expm1(out[rest])
+    out[rest] = pm.expm1(np.minimum(out[rest], 0.0))
     return out
 
 
@@ -156,16 +157,20 @@ def projected_gravity(quat: tuple[float, float, float, float]) -> np.ndarray:
     return -np.array([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)])
 
 
+#: the joint sensor of each of ``NETWORK_MOTORS``
+_SENSORS: tuple[str, ...] = tuple(joint_sensor(motor) for motor in NETWORK_MOTORS)
+
+
 def observation(perception: Perception, goal: tuple[float, float, float],
                 previous_action: np.ndarray) -> np.ndarray:
     """The network's input (78,) from one perception, the goal velocity and last action."""
-    angles = np.empty(len(NETWORK_MOTORS))
-    rates = np.empty(len(NETWORK_MOTORS))
-    for k, motor in enumerate(NETWORK_MOTORS):
-        js = perception.joints.get(joint_sensor(motor))
-        if js is None:
-            raise LeagueError(f"perception has no joint {joint_sensor(motor)!r} (T1 expected)")
-        angles[k], rates[k] = js.angle, js.velocity
+    joints = perception.joints
+    try:
+        states = [joints[sensor] for sensor in _SENSORS]
+    except KeyError as exc:
+        raise LeagueError(f"perception has no joint {exc.args[0]!r} (T1 expected)") from None
+    angles = np.array([js.angle for js in states], dtype=float)
+    rates = np.array([js.velocity for js in states], dtype=float)
     try:
         gyro = np.asarray(perception.gyros["torso_gyro"], dtype=float)
         quat = perception.orientations["torso_quat"]
@@ -216,6 +221,4 @@ class NetworkWalkController:
         action = self.network(obs)
         self._previous_action = action
         targets = (NOMINAL_POSE + ACTION_SCALE * action) * TRAINING_SIGN
-        return effectors.message(*(
-            effectors.motor(name, float(targets[k]), 0.0, KP, KD)
-            for k, name in enumerate(NETWORK_MOTORS)))
+        return effectors.motors(NETWORK_MOTORS, targets, 0.0, KP, KD)
