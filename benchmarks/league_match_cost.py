@@ -69,8 +69,9 @@ def measure(left: str, right: str, seconds: float, team_size: int, seed: int) ->
     from rcsssmj.games.soccer.sim.soccer_sim import SoccerSimulation
     from rcsssmj.server.action_parser import DefaultActionParser
 
-    from teamenv.league import local_server, match
+    from teamenv.league import local_actions, local_server, match
     from teamenv.league.adapter import RequestEncoder
+    from teamenv.league.network_batch import WalkBatch
     from teamenv.league.observation import VisionObservationBuilder
 
     TIMES.clear()
@@ -83,7 +84,9 @@ def measure(left: str, right: str, seconds: float, team_size: int, seed: int) ->
             (local_server, "parse_perception", "our perception parser"),
             (local_server, "perception_from_objects", "our perception parser"),
             (DefaultActionParser, "parse_action", "server action parser"),
+            (local_actions, "quick_actions", "server action parser"),
             (RequestEncoder, "encode", "our controllers"),
+            (WalkBatch, "flush", "our controllers"),
             (VisionObservationBuilder, "observe_team", "observation builder"),
             (match.LeagueSide, "act", "match loop"),
         ]:

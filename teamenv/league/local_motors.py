@@ -9,7 +9,7 @@ the model they were found in: a join recompiles it) and writes the *same* values
 places, in ``mj_data.ctrl`` and ``mj_model.actuator_gainprm`` / ``actuator_biasprm``.
 A name the model lacks goes to rcsssmj's own method, which raises as the server does.
 
-``LocalServer`` installs it on its simulation (``cached_motors=True``, the default); the test
+``LocalServer`` installs it on its simulation (``shortcuts=True``, the default); the test
 (``tests/teamenv/league/test_league_local_motors.py``) compares the controls and gains it
 writes with rcsssmj's, and a match's replay with either.
 """

@@ -32,7 +32,7 @@ def _state(server: LocalServer) -> list[bytes]:
 
 
 def test_the_cached_command_writes_rcsssmjs_controls_and_gains() -> None:
-    servers = [LocalServer(cached_motors=cached) for cached in (False, True)]
+    servers = [LocalServer(shortcuts=cached) for cached in (False, True)]
     assert not isinstance(servers[0].sim.ctrl_motor, CachedMotorCommand)
     assert isinstance(servers[1].sim.ctrl_motor, CachedMotorCommand)
     for s in servers:

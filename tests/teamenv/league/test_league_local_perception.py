@@ -131,7 +131,7 @@ def _replay(tmp_path, name: str, fast: bool, monkeypatch) -> dict:
     original = ls.LocalServer
 
     def make(*args, **kwargs):
-        return original(*args, text_perceptions=not fast, cached_motors=fast, **kwargs)
+        return original(*args, shortcuts=fast, **kwargs)
 
     monkeypatch.setattr(ls, "LocalServer", make)
     path = tmp_path / name
@@ -145,7 +145,7 @@ def _replay(tmp_path, name: str, fast: bool, monkeypatch) -> dict:
 
 
 def test_a_match_replays_the_same_on_rcsssmjs_own_paths_and_ours(tmp_path, monkeypatch) -> None:
-    """The wire text and rcsssmj's motor command v the object reader and the cached one."""
+    """rcsssmj's own paths (the wire text both ways, its motor command) v the shortcuts."""
     text = _replay(tmp_path, "text.npz", False, monkeypatch)
     direct = _replay(tmp_path, "direct.npz", True, monkeypatch)
     assert text["score"] == direct["score"]
