@@ -48,6 +48,7 @@ class _Both(ls.LocalServer):
 
     def __init__(self, *args, **kwargs) -> None:
         super().__init__(*args, **kwargs)
+        self._perceiver = None          # the objects' reader, not the direct perceiver
         self.compared = 0
         self.seen = {"vision": 0, "players": 0, "heard": 0, "joints": 0}
 
@@ -85,6 +86,7 @@ def test_a_match_perceives_the_same_bits_without_the_text(monkeypatch) -> None:
 def _objects():
     """One agent's perception objects after a few cycles of a fresh LocalServer."""
     server = ls.LocalServer()
+    server._perceiver = None            # the server's objects are made (and read)
     server.join("A", 1)
     server.join("B", 1)
     for _ in range(3):
