@@ -23,14 +23,14 @@ from __future__ import annotations
 
 import re
 from collections.abc import Mapping
-from typing import TYPE_CHECKING
+from typing import Any
 
 import numpy as np
 
 from .errors import LeagueError
 
-if TYPE_CHECKING:
-    from .network_walk import NetworkWalkController, WalkNetwork
+# the controllers and the network are network_walk's, which imports this module: typed Any
+NetworkWalkController = WalkNetwork = Any
 
 #: a placeholder: NUL never occurs in effector text (names are letters, digits, ``_-.``)
 _TOKEN = re.compile("\x00([0-9]+)\x00")
