@@ -128,6 +128,10 @@ class _Plan:
             self.players.append((_atom(agent.team_name), int(agent.agent_id.player_no), k,
                                  len(agent.markers)))
             k += len(agent.markers)
+        #: each marker's player (team, unum, ...), None for the world's marks
+        self.marker_owner: list[tuple | None] = [None] * self.n_world
+        for entry in self.players:
+            self.marker_owner += [entry] * entry[3]
         self.cameras = [model.site(agent.agent_id.prefix + "camera").id for agent in agents]
 
 
@@ -255,10 +259,18 @@ class LocalPerceiver:
             if i >= n_world:
                 break
             objects[names[i]] = Polar(d[i], _radians(az[i]), _radians(el[i]))
-        visible_list = visible.tolist()
-        for team, unum, first, count in plan.players:         # players with a seen part
-            parts = {names[i]: Polar(d[i], _radians(az[i]), _radians(el[i]))
-                     for i in range(first, first + count) if visible_list[i]}
-            if parts:
-                vision.players.append(PlayerSighting(team, unum, parts))
+        # players with a seen part, in the server's order: the seen indices ascend, and each
+        # player's markers lie together in the agents' order
+        owner = plan.marker_owner
+        player = parts = None
+        for i in seen_list:
+            if i < n_world:
+                continue
+            if owner[i] is not player:
+                if parts:
+                    vision.players.append(PlayerSighting(player[0], player[1], parts))
+                player, parts = owner[i], {}
+            parts[names[i]] = Polar(d[i], _radians(az[i]), _radians(el[i]))
+        if parts:
+            vision.players.append(PlayerSighting(player[0], player[1], parts))
         return vision
