@@ -190,6 +190,15 @@ class LeagueSide:
             on_act: Callable[[str, dict, Any], None] | None = None) -> dict[int, str]:
         """This cycle's effector message of every agent: observations -> ``team.act`` ->
         the env's action checks -> effectors."""
+        try:
+            return self._act(perceptions, on_act)
+        except BaseException:
+            for batch in self.walk_batches:   # this cycle's pending passes are not sent
+                batch.discard()
+            raise
+
+    def _act(self, perceptions: dict[int, Perception],
+             on_act: Callable[[str, dict, Any], None] | None) -> dict[int, str]:
         observations = self.builder.observe_team(perceptions, self.said)
         game = next(iter(perceptions.values())).game
         start = time.perf_counter()

@@ -70,6 +70,11 @@ class WalkBatch:
         for (controller, _, token), action in zip(pending, actions, strict=True):
             self._texts[token] = controller.finish(action.copy())
 
+    def discard(self) -> None:
+        """Forget the pending passes and computed messages (a cycle that raised: its
+        messages are never sent, its controllers keep their previous actions)."""
+        self._pending, self._texts, self._next = [], {}, 0
+
     def resolve(self, messages: Mapping[int, str]) -> dict[int, str]:
         """``messages`` with every placeholder replaced by its motor effectors (after a
         ``flush``); raises LeagueError if a computed message was not among them."""

@@ -103,3 +103,25 @@ def test_a_match_replays_the_same_with_batched_walks_and_without(tmp_path, monke
     for name in ("ball", "players", "fallen", "play_mode", "touch_cycle", "kick_cycle"):
         assert getattr(a, name).tobytes() == getattr(b, name).tobytes(), name
     assert np.ptp(a.players[:, :, 0]) > 0
+
+
+def test_a_cycle_that_raises_leaves_no_pass_pending() -> None:
+    from teamenv.league.match import LeagueSide
+
+    rng = np.random.default_rng(3)
+    batch = WalkBatch(shipped_network())
+    c = NetworkWalkController(batch=batch)
+    c.stand(_perception(rng))
+    batch.discard()
+    assert not batch.holds(c) and batch.resolve({1: "(syn)"}) == {1: "(syn)"}
+
+    class Broken(LeagueSide):
+        def _act(self, perceptions, on_act):
+            c.stand(_perception(rng))
+            raise RuntimeError("a team's bug")
+
+    side = Broken.__new__(Broken)
+    side.walk_batches = [batch]
+    with pytest.raises(RuntimeError, match="a team's bug"):
+        side.act({}, None)
+    assert not batch.holds(c) and batch.resolve({}) == {}
