@@ -98,10 +98,11 @@ def torso_pose(perception: Perception) -> tuple[float, float, float]:
 def shared_t1():
     """``locomotion.humanoid.t1.load_t1()`` once per process, its arrays read-only.
 
-    Every ``WalkerController`` (one per agent, and one more in each agent's kick motion: 28 in
-    a 7 v 7) reads the same compiled model and keeps its own ``MjData``; compiling the MJCF
-    for each took ~0.15 s of CPU, ~4 s per 7 v 7 match. Nothing writes the model: its arrays
-    are made read-only so that a write raises instead of changing every walker."""
+    Every ``WalkerController`` (one in each agent's kick motion, shared with the agent's walk
+    under ``--walker lipm``: 14 in a 7 v 7) reads the same compiled model and keeps its own
+    ``MjData``; compiling the MJCF for each took ~0.15 s of CPU, ~2 s per 7 v 7 match. Nothing
+    writes the model: its arrays are made read-only so that a write raises instead of changing
+    every walker."""
     from locomotion.humanoid.t1 import load_t1
 
     t1 = load_t1()

@@ -59,6 +59,7 @@ class LocalServer:
     applies the answers of the cycle before (the parallel sync mode's delay; ``action_delay=0``
     applies them at once, as the server's ``--sequential`` mode does), steps the world and
     returns each agent's new perception. ``kick_off(side)`` is the monitor's ``(kickOff ...)``.
+    ``shortcuts=False`` runs rcsssmj's own perception, action and motor code (the module doc).
     """
 
     def __init__(self, rules: str = "ssim", field: str | None = None, action_delay: int = 1,
