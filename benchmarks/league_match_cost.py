@@ -6,7 +6,10 @@
 Plays one match with ``teamenv.league.match.play_league_match`` (``server="local"``: rcsssmj's
 simulation in this process) and times, in CPU time of this process (``time.process_time``),
 each part it passes through: the server's physics step, the server building and encoding the
-perceptions, our perception parser, the server's action parser, our locomotion controllers
+perceptions (with LocalServer's shortcuts, the default: ``local_perceiver`` computing them
+straight into ours, which this part then includes), our perception parser (with the
+shortcuts: only where the wire's text must decide), the server's action parser (with the
+shortcuts: the quick reader of our flat effector text), our locomotion controllers
 (walk, kick, get-up: the request encoders), the observation builder and the team plugins.
 Joining (MuJoCo recompiles the world for each robot) is reported apart: it is paid once per
 match. The parts are timed by wrapping the functions (a few microseconds each), so "other"
@@ -67,8 +70,10 @@ def measure(left: str, right: str, seconds: float, team_size: int, seed: int) ->
     from rcsssmj.games.soccer.sim.soccer_sim import SoccerSimulation
     from rcsssmj.server.action_parser import DefaultActionParser
 
-    from teamenv.league import local_server, match
+    from teamenv.league import local_actions, local_server, match
     from teamenv.league.adapter import RequestEncoder
+    from teamenv.league.local_perceiver import LocalPerceiver
+    from teamenv.league.network_batch import WalkBatch
     from teamenv.league.observation import VisionObservationBuilder
 
     TIMES.clear()
@@ -77,10 +82,14 @@ def measure(left: str, right: str, seconds: float, team_size: int, seed: int) ->
             (local_server.LocalServer, "join_teams", "join (once per match)"),
             (SoccerSimulation, "step", "server physics"),
             (SoccerSimulation, "generate_perceptions", "server perceptions"),
+            (LocalPerceiver, "perceive", "server perceptions"),
             (local_server.LocalServer, "_perceive", "server perceptions"),
             (local_server, "parse_perception", "our perception parser"),
+            (local_server, "perception_from_objects", "our perception parser"),
             (DefaultActionParser, "parse_action", "server action parser"),
+            (local_actions, "quick_actions", "server action parser"),
             (RequestEncoder, "encode", "our controllers"),
+            (WalkBatch, "flush", "our controllers"),
             (VisionObservationBuilder, "observe_team", "observation builder"),
             (match.LeagueSide, "act", "match loop"),
         ]:

@@ -19,6 +19,10 @@ from __future__ import annotations
 import base64
 import math
 import re
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
 
 from teamenv.errors import ActionError, value_repr
 
@@ -79,6 +83,52 @@ def motor(name: str, q: float, dq: float = 0.0, kp: float = 0.0, kd: float = 0.0
     dqd = math.degrees(_check(dq, f"{what} dq"))
     return (f"({name} {_fmt(qd, what)} {_fmt(dqd, what)} {_fmt(kp, f'{what} kp')} "
             f"{_fmt(kd, f'{what} kd')} {_fmt(tau, f'{what} tau')})")
+
+
+def motors(names: Sequence[str], q: Any, dq: Any = 0.0, kp: Any = 0.0, kd: Any = 0.0,
+           tau: Any = 0.0) -> str:
+    """``message(*(motor(names[k], q[k], dq[k], kp[k], kd[k], tau[k]) for k ...))`` for a
+    whole robot at once, the same text (each number formatted once, a number given for every
+    motor once, instead of ``motor``'s checks and re-formatting per field): ``q`` ... ``tau``
+    are sequences as long as ``names`` or one number for every motor. A bad name or a
+    non-finite number raises ``motor``'s error."""
+    names = list(names)
+    n = len(names)
+    for column in (q, dq, kp, kd, tau):
+        if np.ndim(column) != 0 and len(column) != n:
+            raise EffectorError(f"motors: {len(column)} values of a field for {n} motors")
+    texts = []
+    try:
+        for k, column in enumerate((q, dq, kp, kd, tau)):
+            angle = k < 2        # q and dq: radians, sent in degrees
+            if np.ndim(column) == 0:
+                x = float(column)                     # the same float() as motor's checks
+                x = math.degrees(x) if angle else x
+                if not math.isfinite(x):
+                    raise ValueError
+                texts.append([format(x, ".6g")] * n)
+                continue
+            values = column.tolist() if isinstance(column, np.ndarray) else list(column)
+            xs = [math.degrees(float(v)) for v in values] if angle else \
+                [float(v) for v in values]
+            if not all(map(math.isfinite, xs)):
+                raise ValueError
+            texts.append([format(x, ".6g") for x in xs])
+        if not all(isinstance(m, str) and (m in _GOOD_NAMES or _NAME.fullmatch(m))
+                   for m in names):
+            raise ValueError
+    except (TypeError, ValueError, OverflowError):
+        # motor's own checks name the motor, field and value
+        return message(*(motor(m, *(c if np.ndim(c) == 0 else c[k]
+                                    for c in (q, dq, kp, kd, tau)))
+                         for k, m in enumerate(names)))
+    _GOOD_NAMES.update(names)
+    return "".join([f"({m} {a} {b} {c} {d} {e})"
+                    for m, a, b, c, d, e in zip(names, *texts, strict=True)]) or SYN
+
+
+#: motor names ``motors`` has checked already (a name is checked once per process)
+_GOOD_NAMES: set[str] = set()
 
 
 def say(payload: bytes, volume: float = 100.0) -> str:

@@ -166,9 +166,33 @@ class LeagueSide:
     requests: dict[int, Request] = field(default_factory=dict)
     time_s: float = 0.0
 
+    #: one walking-network pass per cycle for this side's robots (``batch_walks``)
+    walk_batches: list = field(default_factory=list)
+
     @property
     def agents(self) -> tuple[str, ...]:
         return self.builder.agents
+
+    def batch_walks(self) -> None:
+        """Give this side's walking-network controllers one pass per cycle
+        (``teamenv.league.network_batch``: the same bits as one pass per robot): those of the
+        same network share a ``WalkBatch``; ``act`` and ``resolved`` fill their messages in."""
+        from .network_batch import WalkBatch
+        from .network_walk import NetworkWalkController
+
+        batches: dict[int, WalkBatch] = {}
+        for encoder in self.encoders.values():
+            controller = encoder.controller
+            if isinstance(controller, NetworkWalkController) and controller.batch is None:
+                net = controller.network
+                controller.batch = batches.setdefault(id(net), WalkBatch(net))
+        self.walk_batches = list(batches.values())
+
+    def resolved(self, messages: dict[int, str]) -> dict[int, str]:
+        """``messages`` with the walk batches' passes run and filled in."""
+        for batch in self.walk_batches:
+            messages = batch.resolve(messages)
+        return messages
 
     def fault(self, reason: str, detail: str) -> TeamFault:
         return TeamFault(self.side, reason, f"team {self.label!r} (agents "
@@ -178,6 +202,15 @@ class LeagueSide:
             on_act: Callable[[str, dict, Any], None] | None = None) -> dict[int, str]:
         """This cycle's effector message of every agent: observations -> ``team.act`` ->
         the env's action checks -> effectors."""
+        try:
+            return self._act(perceptions, on_act)
+        except BaseException:
+            for batch in self.walk_batches:   # this cycle's pending passes are not sent
+                batch.discard()
+            raise
+
+    def _act(self, perceptions: dict[int, Perception],
+             on_act: Callable[[str, dict, Any], None] | None) -> dict[int, str]:
         observations = self.builder.observe_team(perceptions, self.said)
         game = next(iter(perceptions.values())).game
         start = time.perf_counter()
@@ -219,7 +252,7 @@ class LeagueSide:
                 self.builder.note_beam(unum)
             out[unum] = message
             self.said.setdefault(unum, deque(maxlen=SAID_MEMORY_CYCLES)).append(cmd.say[k])
-        return out
+        return self.resolved(out)
 
 
 def make_side(spec: str, side: str, team_size: int, seed: int,
@@ -313,6 +346,7 @@ def play_league_match(left: str, right: str, options: LeagueMatchOptions = Leagu
             s.encoders = {u: RequestEncoder(WALKERS[options.walker](), c.who(u),
                                             ramp=_ramp(options))
                           for u in c.unums}
+            s.batch_walks()
         join(clients)
         recorder = None
         if replay_path is not None:
@@ -323,8 +357,8 @@ def play_league_match(left: str, right: str, options: LeagueMatchOptions = Leagu
         homes = start_poses(n)
         for s, c in zip(sides, clients, strict=True):   # the env's start poses
             fresh = c.perceive()        # join answered ``last``: read the next one
-            c.act({u: s.encoders[u].encode(Request(beam=homes[u - 1]), fresh[u])
-                   for u in c.unums})
+            c.act(s.resolved({u: s.encoders[u].encode(Request(beam=homes[u - 1]), fresh[u])
+                              for u in c.unums}))
             for u in c.unums:
                 s.builder.note_beam(u)
         before = 0

@@ -26,6 +26,8 @@ machine-dependent in a walk is the server's physics (MuJoCo), not the controller
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import math
 from dataclasses import dataclass
 from importlib import resources
@@ -38,6 +40,7 @@ import portable_math as pm
 from . import effectors
 from .controller import WalkEnvelope
 from .errors import LeagueError
+from .network_batch import WalkBatch
 from .perception import Perception
 from .t1 import T1_MOTORS, joint_sensor
 
@@ -135,9 +138,24 @@ class WalkNetwork:
         return np.clip(pm.matmul(h, self.w4) + self.b4, -CLIP, CLIP)
 
 
+@functools.lru_cache(maxsize=1)
+def shipped_network() -> WalkNetwork:
+    """``WalkNetwork.load()`` once per process, its arrays read-only: the controllers of a
+    match share it (and so can share a ``WalkBatch``)."""
+    network = WalkNetwork.load()
+    for f in dataclasses.fields(network):
+        getattr(network, f.name).flags.writeable = False
+    return network
+
+
 def _elu(x: np.ndarray) -> np.ndarray:
-    # expm1 of min(x, 0): no overflow for large positive x
-    return np.where(x > 0, x, pm.expm1(np.minimum(x, 0.0)))
+    """x where x > 0, else expm1(min(x, 0)) (``portable_math``: one C-library call per
+    element, so only the elements that keep it are computed; min(-0.0, 0) is +0.0, NaN stays
+    NaN: the bits of ``where(x > 0, x, expm1(minimum(x, 0)))``)."""
+    out = np.array(x, dtype=np.float64)
+    rest = ~(out > 0)
+    out[rest] = pm.expm1(np.minimum(out[rest], 0.0))
+    return out
 
 
 def projected_gravity(quat: tuple[float, float, float, float]) -> np.ndarray:
@@ -152,16 +170,20 @@ def projected_gravity(quat: tuple[float, float, float, float]) -> np.ndarray:
     return -np.array([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)])
 
 
+#: the joint sensor of each of ``NETWORK_MOTORS``
+_SENSORS: tuple[str, ...] = tuple(joint_sensor(motor) for motor in NETWORK_MOTORS)
+
+
 def observation(perception: Perception, goal: tuple[float, float, float],
                 previous_action: np.ndarray) -> np.ndarray:
     """The network's input (78,) from one perception, the goal velocity and last action."""
-    angles = np.empty(len(NETWORK_MOTORS))
-    rates = np.empty(len(NETWORK_MOTORS))
-    for k, motor in enumerate(NETWORK_MOTORS):
-        js = perception.joints.get(joint_sensor(motor))
-        if js is None:
-            raise LeagueError(f"perception has no joint {joint_sensor(motor)!r} (T1 expected)")
-        angles[k], rates[k] = js.angle, js.velocity
+    joints = perception.joints
+    try:
+        states = [joints[sensor] for sensor in _SENSORS]
+    except KeyError as exc:
+        raise LeagueError(f"perception has no joint {exc.args[0]!r} (T1 expected)") from None
+    angles = np.array([js.angle for js in states], dtype=float)
+    rates = np.array([js.velocity for js in states], dtype=float)
     try:
         gyro = np.asarray(perception.gyros["torso_gyro"], dtype=float)
         quat = perception.orientations["torso_quat"]
@@ -191,12 +213,21 @@ class NetworkWalkController:
     docs/league.md). ``reset`` forgets the previous action (as after a fresh connection)."""
 
     def __init__(self, envelope: WalkEnvelope | None = NETWORK_ENVELOPE,
-                 network: WalkNetwork | None = None) -> None:
+                 network: WalkNetwork | None = None, batch: WalkBatch | None = None) -> None:
         self.envelope = envelope
-        self.network = network or WalkNetwork.load()
+        self.network = network or (batch.network if batch is not None else shipped_network())
+        #: with a batch, ``stand``/``step`` return a placeholder that the batch's ``resolve``
+        #: replaces by the message (``teamenv.league.network_batch``: one pass per team)
+        self.batch = batch
         self._previous_action = np.zeros(len(NETWORK_MOTORS))
 
+    def _settle(self) -> None:
+        """Let a pass of this controller still pending in its batch happen now."""
+        if self.batch is not None and self.batch.holds(self):
+            self.batch.flush()
+
     def reset(self) -> None:
+        self._settle()
         self._previous_action = np.zeros(len(NETWORK_MOTORS))
 
     def stand(self, perception: Perception) -> str:
@@ -208,10 +239,15 @@ class NetworkWalkController:
         return self._act(command, perception)
 
     def _act(self, goal: tuple[float, float, float], perception: Perception) -> str:
+        self._settle()                      # a second message this cycle follows the first
         obs = observation(perception, goal, self._previous_action)
-        action = self.network(obs)
+        if self.batch is not None:
+            return self.batch.submit(self, obs)
+        return self.finish(self.network(obs))
+
+    def finish(self, action: np.ndarray) -> str:
+        """The motor effectors of the network's ``action`` (23,), remembered as the previous
+        action (the batch calls this after its pass)."""
         self._previous_action = action
         targets = (NOMINAL_POSE + ACTION_SCALE * action) * TRAINING_SIGN
-        return effectors.message(*(
-            effectors.motor(name, float(targets[k]), 0.0, KP, KD)
-            for k, name in enumerate(NETWORK_MOTORS)))
+        return effectors.motors(NETWORK_MOTORS, targets, 0.0, KP, KD)

@@ -151,3 +151,17 @@ def test_the_network_walks_on_the_real_server() -> None:
     assert not r.fell
     gained = r.poses[-1, :2] - r.poses[0, :2]
     assert gained[0] > 1.5 and abs(gained[1]) < 1.0, gained   # ~0.9 m/s for ~2.5 s
+
+
+def test_elu_computes_expm1_only_where_kept_with_the_same_bits() -> None:
+    """``_elu`` skips expm1 where x > 0: the values are those of the full ``where``."""
+    import portable_math as pm
+    from teamenv.league.network_walk import _elu
+
+    rng = np.random.default_rng(0)
+    x = rng.standard_normal(20000) * 10.0 ** rng.integers(-8, 3, 20000)
+    x = np.concatenate([x, [0.0, -0.0, np.nan, np.inf, -np.inf, -800.0, 5e-324, -5e-324]])
+    for shaped in (x, x[:14 * 1000].reshape(14, 1000)):
+        full = np.where(shaped > 0, shaped, pm.expm1(np.minimum(shaped, 0.0)))
+        assert _elu(shaped).tobytes() == full.tobytes()
+    assert _elu(x).tobytes() != np.maximum(x, 0.0).tobytes()       # it does compute expm1
