@@ -115,6 +115,10 @@ BACK: tuple[Keyframe, ...] = (
     (1.312, END_POSE),
 )
 
+#: a keyframe's key (not a joint group) that scales every motor's kd (the damping) from the
+#: start of that keyframe's move until a later keyframe says otherwise (1 before the first):
+#: fast, thrown moves need little damping (kd x joint speed eats the motors' torque)
+DAMPING = "damping"
 #: joint PD gains (kp N m/rad, kd N m s/rad) by the motor's joint name fragment: the T1's
 #: (``locomotion.humanoid.t1.PD_GAINS``) x this scale, the walker's (``LEAGUE_WALK``)
 GAIN_SCALE = 2.9369
@@ -159,7 +163,7 @@ def _targets(frame: Mapping[str, float], previous: Mapping[str, float]) -> dict[
     """A keyframe's motor targets: its groups on both sides, the other motors as before."""
     out = dict(previous)
     for group, angle in frame.items():
-        if group in T1_MOTORS:  # one motor (an asymmetric move)
+        if group in T1_MOTORS or group == DAMPING:  # one motor (an asymmetric move)
             continue
         if group not in GROUPS:
             raise LeagueError(f"get-up keyframe: unknown joint group {group!r}; "
@@ -199,6 +203,11 @@ class GetUpMotion:
                     raise LeagueError(f"GetUpMotion: {name} keyframe {k}: duration {dt!r} "
                                       "is not a positive number of seconds")
                 _targets(frame, {})
+                damping = frame.get(DAMPING, 1.0)
+                if not (isinstance(damping, (int, float)) and math.isfinite(damping)
+                        and damping > 0):
+                    raise LeagueError(f"GetUpMotion: {name} keyframe {k}: damping {damping!r} "
+                                      "is not a positive number")
         attempts = ATTEMPTS if attempts is None else attempts
         if isinstance(attempts, bool) or not isinstance(attempts, int) or attempts < 0:
             raise LeagueError(f"GetUpMotion: attempts {attempts!r} is not an int >= 0")
@@ -207,6 +216,7 @@ class GetUpMotion:
         self.attempts = attempts
         self._gains = _motor_gains()
         self._plan: list[tuple[float, dict[str, float]]] = []
+        self._damping: list[float] = []
         self._t = 0.0
         self._failures = 0
         #: "front" / "back": the side chosen at the last start
@@ -247,12 +257,14 @@ class GetUpMotion:
                                   f"{joint_sensor(motor)!r} (T1 expected)")
             current[motor] = js.angle
         self._plan = [(0.0, current)]
+        self._damping = [1.0]
         previous = current
         frames = ((REST_S, REST_POSE),) if self.resting else (
             self.front if self.side == "front" else self.back)
         for dt, frame in frames:
             previous = _targets(frame, previous)
             self._plan.append((float(dt), previous))
+            self._damping.append(float(frame.get(DAMPING, self._damping[-1])))
         if self.resting:  # at once, not interpolated: nothing to get up from
             self._plan[0] = (0.0, previous)
         self._t = 0.0
@@ -260,19 +272,28 @@ class GetUpMotion:
         self.started = True
 
     def _pose_at(self, t: float) -> dict[str, float]:
-        for (_, a), (dt, b) in zip(self._plan, self._plan[1:], strict=False):
+        return self.command_at(t)[0]
+
+    def command_at(self, t: float) -> tuple[dict[str, float], dict[str, tuple[float, float]]]:
+        """The motor targets and gains (kp, kd) ``t`` s after the start."""
+        pose, damping = self._plan[-1][1], self._damping[-1]
+        for (_, a), (dt, b), c in zip(self._plan, self._plan[1:], self._damping[1:],
+                                      strict=False):
             if t < dt:
                 s = 0.5 - 0.5 * math.cos(math.pi * t / dt)
-                return {m: a[m] + s * (b[m] - a[m]) for m in a}
+                pose, damping = {m: a[m] + s * (b[m] - a[m]) for m in a}, c
+                break
             t -= dt
-        return self._plan[-1][1]
+        if damping == 1.0:
+            return pose, self._gains
+        return pose, {m: (kp, kd * damping) for m, (kp, kd) in self._gains.items()}
 
     def step(self, perception: Perception) -> str:
         """This cycle's motor message (the end pose, held, once done)."""
         if not self.started:
             raise LeagueError("GetUpMotion.step before start")
         self._t += CYCLE_S
-        pose = self._pose_at(self._t)
+        pose, gains = self.command_at(self._t)
         if not self.done:
             if self.resting and is_up(perception):  # the referee stood it up
                 self.done = self.succeeded = True
@@ -280,7 +301,7 @@ class GetUpMotion:
                 self.done = True
                 self.succeeded = is_up(perception)
         return effectors.message(*(
-            effectors.motor(m, pose[m], 0.0, *self._gains[m]) for m in T1_MOTORS))
+            effectors.motor(m, pose[m], 0.0, *gains[m]) for m in T1_MOTORS))
 
 
 def is_up(perception: Perception) -> bool:

@@ -229,3 +229,46 @@ def test_by_default_the_motion_rests_while_the_keyframes_fail() -> None:
     targets = {e[0]: math.radians(float(e[1])) for e in
                (part.split() for part in first.strip("()").split(")("))}
     assert all(abs(targets[m] - 0.0) < 1e-6 for m in T1_MOTORS) and set(REST_POSE) == set(END_POSE)
+
+
+def test_a_keyframe_damping_scales_kd_from_its_move_on_and_bad_values_are_refused() -> None:
+    from teamenv.league.getup import DAMPING
+
+    frames = ((0.1, {"knee": 1.0}), (0.1, {"knee": 2.0, DAMPING: 0.25}), (0.1, END_POSE))
+    motion = GetUpMotion(front=frames, back=frames, attempts=1)
+    server = trial_server()
+    server.set_robot_pose(TEAM, UNUM, (-5.0, 0.0, 0.2), _pitch_quat(math.pi / 2))
+    motion.start(server.cycle({})[(TEAM, UNUM)])
+    kd = {t: motion.command_at(t)[1]["lle4"][1] for t in (0.05, 0.15, 0.25, 0.4)}
+    assert kd[0.15] == pytest.approx(0.25 * kd[0.05])
+    assert kd[0.25] == kd[0.4] == kd[0.15]         # kept until a keyframe says otherwise
+    with pytest.raises(LeagueError, match="front keyframe 0: damping 0"):
+        GetUpMotion(front=((0.1, {DAMPING: 0}),))
+
+
+def test_the_fast_plant_follows_the_local_server_and_restores_a_state_bit_for_bit() -> None:
+    from teamenv.league.getup_plant import FastPlant, motor_arrays
+    from teamenv.league.getup_trial import fall
+
+    def run_plant(plant, motion, p, n):
+        motion.start(p)
+        heights = []
+
+        def policy(k, pl):
+            pose, gains = motion.command_at((k + 1) * 0.02)
+            return motor_arrays(pose, gains, pl.motors)
+
+        plant.run(policy, n, lambda k, pl: heights.append(pl.torso()[0][2]))
+        return np.array(heights)
+
+    r = getup_trial(GetUpMotion(attempts=1), "back", seed=3, hold_s=0.0)
+    server = trial_server()
+    p = fall(server, fall_setup("back", 3))
+    plant = FastPlant(server)
+    snap = plant.snapshot()
+    motion = GetUpMotion(attempts=1)
+    fast = run_plant(plant, motion, p, len(r.heights))
+    # the motor text's 6 digits and the perception's rounding only: the same motion
+    assert np.abs(fast - r.heights).max() < 0.02
+    plant.restore(snap)
+    assert np.array_equal(run_plant(plant, motion, p, len(r.heights)), fast)
