@@ -7,10 +7,12 @@ each cycle it writes every motor's PD command the way rcsssmj's ``ctrl_motor`` d
 and target velocity into the ``_pos`` / ``_vel`` actuators' controls, the gains into their
 ``gainprm`` / ``biasprm``; the joint's ``actuatorfrcrange`` clamps the sum) and steps the
 world ``n_substeps`` times, with the server's one-cycle delay (a command computed from the
-state after cycle k moves the robot from cycle k + 1). What it leaves out: the referee, the
-ball and the other robots (there are none in a trial), the 6 significant digits of the motor
-text, and the perception's rounding. A search scores candidates here and checks the best on
-``LocalServer`` (``getup_trial``), which is what the trials measure.
+state after cycle k moves the robot from cycle k + 1); the commands carry the motor text's
+precision (degrees to 6 significant digits). What it leaves out: the referee, the ball and
+the other robots (there are none in a trial) and the perception's rounding of what it reads
+(so a trial's torso heights agree with ``getup_trial``'s to the perception's 1 mm; chaotic
+moments of a motion can still part ways). A search scores candidates here and checks the
+best on ``LocalServer`` (``getup_trial``), which is what the trials measure.
 
 ``snapshot()`` / ``restore()`` save and put back the whole simulation state (and the robot's
 actuator gains), so one fall, made once on ``LocalServer``, is the start of many candidates.
@@ -19,6 +21,7 @@ actuator gains), so one fall, made once on ``LocalServer``, is the start of many
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -88,7 +91,11 @@ class FastPlant:
 
     def command(self, q: np.ndarray, kp: np.ndarray, kd: np.ndarray,
                 dq: np.ndarray | None = None) -> None:
-        """Every motor's PD command (arrays in ``self.motors`` order), as ``ctrl_motor``."""
+        """Every motor's PD command (arrays in ``self.motors`` order), as ``ctrl_motor``
+        does it with the values the motor text carries (``effectors.motor``: degrees and
+        gains to 6 significant digits, parsed back by the server)."""
+        q, kp, kd = _wire(q, True), _wire(kp, False), _wire(kd, False)
+        dq = None if dq is None else _wire(dq, True)
         m, d = self.model, self.data
         d.ctrl[self._tau] = 0.0
         d.ctrl[self._pos] = q
@@ -155,6 +162,15 @@ class FastPlant:
             if watch is not None and watch(k, self):
                 return k + 1
         return cycles
+
+
+def _wire(values: np.ndarray, angle: bool) -> np.ndarray:
+    """``values`` as they arrive through the motor text (``effectors._fmt``: 6 significant
+    digits, angles in degrees, turned back into radians by rcsssmj's action parser)."""
+    if angle:
+        return np.array([math.radians(float(format(math.degrees(float(v)), ".6g")))
+                         for v in values])
+    return np.array([float(format(float(v), ".6g")) for v in values])
 
 
 def motor_arrays(targets: Mapping[str, float], gains: Mapping[str, tuple[float, float]],
