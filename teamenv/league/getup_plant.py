@@ -20,8 +20,8 @@ actuator gains), so one fall, made once on ``LocalServer``, is the start of many
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
 import math
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 import numpy as np
