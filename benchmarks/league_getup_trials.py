@@ -13,6 +13,9 @@ highest torso and of the most upright torso during the motion and the hold). ``-
 
     python benchmarks/league_getup_trials.py                    # 100 + 100 trials
     python benchmarks/league_getup_trials.py --seeds 0-19 --side back
+    python benchmarks/league_getup_trials.py --side front --json f.json &    # in parallel
+    python benchmarks/league_getup_trials.py --side back --json b.json
+    python benchmarks/league_getup_trials.py --merge f.json b.json --json all.json
 """
 
 from __future__ import annotations
@@ -81,7 +84,20 @@ def main() -> None:
     ap.add_argument("--seeds", default="0-99", help="evaluation seeds, N-M (default 0-99)")
     ap.add_argument("--side", choices=("front", "back", "both"), default="both")
     ap.add_argument("--json", default=None, help="write every trial here")
+    ap.add_argument("--merge", nargs="+", default=None,
+                    help="summarise these --json files (e.g. one per side, run in parallel) "
+                         "and write them together to --json")
     args = ap.parse_args()
+    if args.merge:
+        every = [r for path in args.merge for r in json.load(open(path, encoding="utf-8"))]
+        for side in ("front", "back"):
+            rows = [r for r in every if r["side"] == side]
+            if rows:
+                print(summary(side, rows))
+        if args.json:
+            with open(args.json, "w", encoding="utf-8") as fh:
+                json.dump(every, fh, indent=1)
+        return
     seeds = seed_range(args.seeds)
     sides = ("front", "back") if args.side == "both" else (args.side,)
     every = []

@@ -44,7 +44,8 @@ BOX = {
     "shoulder_roll": (-1.6, 0.2),
     "elbow_pitch": (-2.2, 2.2),
     "hip_pitch": (-1.8, 1.0),
-    "hip_roll": (-0.2, 0.8),
+    "hip_roll": (-0.2, 1.57),
+    "hip_yaw": (-1.0, 1.0),
     "knee": (0.0, 2.34),
     "ankle_pitch": (-0.87, 0.35),
 }
@@ -97,6 +98,11 @@ def crouch(server) -> float:
     prefix = server._agents[(TEAM, UNUM)].agent_id.prefix
     com = data.subtree_com[server.sim.mj_model.body(prefix + "torso").id]
     left, right = (data.body(prefix + f"{s}_foot_link").xpos for s in ("left", "right"))
+    return crouch_of(com, left, right)
+
+
+def crouch_of(com, left, right) -> float:
+    """``crouch`` from the centre of mass and the two foot bodies' positions (world)."""
     if max(left[2], right[2]) > FOOT_DOWN_M:  # weight over feet in the air is no crouch
         return 0.0
     d = float(np.hypot(*(com[:2] - (left[:2] + right[:2]) / 2)))

@@ -160,11 +160,6 @@ def getup_trial(motion: GetUpMotion, side: str, seed: int, hold_s: float = 2.0,
     s = fall_setup(side, seed)
     server = server or trial_server()
     key = (TEAM, UNUM)
-    sign = 1.0 if side == "front" else -1.0  # + pitch tips the torso forward
-    tip = _quat_mul(_axis_quat((0, 1, 0), sign * s.tilt), _axis_quat((1, 0, 0), s.roll))
-    quat = _quat_mul(_axis_quat((0, 0, 1), s.yaw), tip)
-    falling = effectors.message(*(effectors.motor(m, s.joints[m], 0.0, s.fall_gain,
-                                                  s.fall_gain / 20) for m in T1_MOTORS))
 
     def cycle(msg: str) -> Perception:
         return server.cycle({key: msg})[key]
@@ -173,6 +168,28 @@ def getup_trial(motion: GetUpMotion, side: str, seed: int, hold_s: float = 2.0,
         p = cycle(msg)
         watch(server)
         return p
+
+    p = fall(server, s)
+    front = lying_on_front(p.orientations["torso_quat"])
+    up, t_up, fell_after, heights, uprights = run_getup(motion, p,
+                                                        watched if watch else cycle, hold_s)
+    return GetUpTrial(s, motion.side, front, up, t_up, fell_after, motion.duration, heights,
+                      uprights)
+
+
+def fall(server, s: FallSetup) -> Perception:
+    """Make the trial robot on ``server`` fall as ``s`` says; returns the perception of the
+    cycle it is down (the server's pending answer is the falling command's)."""
+    key = (TEAM, UNUM)
+    side = s.side
+    sign = 1.0 if side == "front" else -1.0  # + pitch tips the torso forward
+    tip = _quat_mul(_axis_quat((0, 1, 0), sign * s.tilt), _axis_quat((1, 0, 0), s.roll))
+    quat = _quat_mul(_axis_quat((0, 0, 1), s.yaw), tip)
+    falling = effectors.message(*(effectors.motor(m, s.joints[m], 0.0, s.fall_gain,
+                                                  s.fall_gain / 20) for m in T1_MOTORS))
+
+    def cycle(msg: str) -> Perception:
+        return server.cycle({key: msg})[key]
 
     # answered first, so the pose below moves under the falling command from its first step
     # (the server applies an answer one cycle late), not under the last trial's
@@ -188,11 +205,7 @@ def getup_trial(motion: GetUpMotion, side: str, seed: int, hold_s: float = 2.0,
         if is_fallen(p):
             break
         p = cycle(falling)
-    front = lying_on_front(p.orientations["torso_quat"])
-    up, t_up, fell_after, heights, uprights = run_getup(motion, p,
-                                                        watched if watch else cycle, hold_s)
-    return GetUpTrial(s, motion.side, front, up, t_up, fell_after, motion.duration, heights,
-                      uprights)
+    return p
 
 
 def trial_server():
