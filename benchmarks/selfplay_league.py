@@ -46,14 +46,35 @@ from teamenv.selfplay.snapshots import SnapshotPool
 from teamenv.selfplay.training_setup import TrainingSetup
 
 
-def demo_config(smoke: bool) -> LeagueConfig:
+#: The learners of the demo: "imitation" (the committed run: PPO warm-started by cloning
+#: chaser, ``teamenv.selfplay.imitation``) and "ppo" (from scratch: the first run).
+LEARNERS = ("imitation", "ppo")
+#: The imitation learner's options beyond PPO's (the teacher and the clone).
+IMITATION_OPTIONS = {"teacher": "chaser", "dagger_rounds": 2, "bc_epochs": 30,
+                     "bc_log_std": -1.5}
+
+
+def demo_config(smoke: bool, learner: str = "imitation") -> LeagueConfig:
     """The committed run's configuration (``smoke``: a seconds-long version of it)."""
+    if learner not in LEARNERS:
+        raise ValueError(f"learner {learner!r}: one of {LEARNERS}")
     if smoke:
+        extra = {**IMITATION_OPTIONS, "dagger_rounds": 1, "bc_epochs": 2} \
+            if learner == "imitation" else {}
         return LeagueConfig(
             seed=0, steps_per_generation=192, builtins=("chaser", "static"),
             training=TrainingSetup(team_size=3, episode_s=2.0),
             rating=RatingSetup(half_time_s=5.0, halves=1, recent=1, n_bootstrap=20),
-            learner_options={"copies": 1, "n_steps": 64, "batch_size": 64, "n_epochs": 2})
+            learner=learner, learner_options={"copies": 1, "n_steps": 64, "batch_size": 64,
+                                              "n_epochs": 2, **extra})
+    if learner == "imitation":
+        return LeagueConfig(
+            seed=0, steps_per_generation=36_000, builtins=("chaser", "static", "full"),
+            training=TrainingSetup(team_size=3, episode_s=60.0),
+            rating=RatingSetup(games_per_pairing=1, half_time_s=45.0, halves=2, recent=2),
+            learner="imitation",
+            learner_options={"copies": 4, "n_steps": 256, "batch_size": 512, "n_epochs": 5,
+                             "learning_rate": 1e-4, "hidden": 128, **IMITATION_OPTIONS})
     return LeagueConfig(
         seed=0, steps_per_generation=30_000, builtins=("chaser", "static", "full"),
         training=TrainingSetup(team_size=3, episode_s=60.0),
@@ -93,15 +114,19 @@ def main(argv: list[str] | None = None) -> None:
                         help="default examples/policies/selfplay_3v3.npz")
     parser.add_argument("--report", type=Path, default=None,
                         help="default benchmarks/results/selfplay_evaluation.json")
+    parser.add_argument("--learner", choices=LEARNERS, default="imitation",
+                        help="imitation (default: cloning chaser, then PPO) or ppo (from "
+                             "scratch, the first run); the default paths below name it")
     parser.add_argument("--smoke", action="store_true", help="a tiny run (seconds)")
     args = parser.parse_args(argv)
     smoke = args.smoke
-    run_dir = args.run_dir or Path("runs/selfplay_league" + ("_smoke" if smoke else ""))
+    tag = "_imitation" if args.learner == "imitation" else ""
+    run_dir = args.run_dir or Path(f"runs/selfplay{tag}_league" + ("_smoke" if smoke else ""))
     curve = args.curve or (run_dir / "curve.png" if smoke else
-                           Path("docs/selfplay_rating_curve.png"))
+                           Path(f"docs/selfplay{tag}_rating_curve.png"))
     record = args.json or (run_dir / "league.json" if smoke else
-                           Path("benchmarks/results/selfplay_league.json"))
-    config = demo_config(smoke)
+                           Path(f"benchmarks/results/selfplay{tag}_league.json"))
+    config = demo_config(smoke, args.learner)
     generations = 2 if smoke else args.generations
 
     start = time.perf_counter()
@@ -150,9 +175,9 @@ def main(argv: list[str] | None = None) -> None:
         best = next(t for t in final.bradley_terry if t.startswith("gen-") and t != "gen-0000")
         generation = int(best.split("-")[1])
         policy = args.policy or (run_dir / "best.npz" if smoke else
-                                 Path("examples/policies/selfplay_3v3.npz"))
+                                 Path(f"examples/policies/selfplay_3v3{tag}.npz"))
         report_path = args.report or (run_dir / "evaluation.json" if smoke else
-                                      Path("benchmarks/results/selfplay_evaluation.json"))
+                                      Path(f"benchmarks/results/selfplay{tag}_evaluation.json"))
         policy.parent.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(pool.path(generation), policy)
         spec = pool.spec(generation)
