@@ -45,7 +45,6 @@ from teamenv.selfplay.rating import RatingSetup, rating_tournament
 from teamenv.selfplay.snapshots import SnapshotPool
 from teamenv.selfplay.training_setup import TrainingSetup
 
-
 #: The learners of the demo: "imitation" (the committed run: PPO warm-started by cloning
 #: chaser, ``teamenv.selfplay.imitation``) and "ppo" (from scratch: the first run).
 LEARNERS = ("imitation", "ppo")

@@ -63,7 +63,7 @@ class ImitationPPOLearner(PPOLearner):
                  dagger_rounds: int = 2, bc_epochs: int = 30, bc_batch: int = 256,
                  bc_learning_rate: float = 1e-3, bc_log_std: float = -1.5,
                  value_epochs: int = 10, **ppo_options) -> None:
-        self.teacher = parse_teacher(teacher)
+        self.teacher = parse_teacher(teacher, setup)
         for name, value in (("dagger_rounds", dagger_rounds), ("bc_epochs", bc_epochs),
                             ("bc_batch", bc_batch), ("value_epochs", value_epochs)):
             if isinstance(value, bool) or not isinstance(value, int) or value < (

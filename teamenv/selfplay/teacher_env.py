@@ -27,11 +27,12 @@ import numpy as np
 
 from teamenv.box_layout import ACTION_SIZE, KICK_DIRECTION, KICK_POWER, WALK
 from teamenv.errors import ConfigError
+from teamenv.match import MatchOptions
 from teamenv.selfplay.batch_env import LEARNER_SIDE, TeamBatchEnv
 from teamenv.selfplay.pfsp import OpponentMix
 from teamenv.selfplay.training_setup import TrainingSetup
 from teamenv.tournament.errors import TournamentError
-from teamenv.tournament.spec import TeamSpec, parse_team_spec
+from teamenv.tournament.spec import TeamSpec, parse_team_spec, validate_specs
 
 
 def dict_to_box_action(action: Mapping[str, Any], walk_low: np.ndarray,
@@ -51,16 +52,19 @@ def dict_to_box_action(action: Mapping[str, Any], walk_low: np.ndarray,
     return np.clip(box, -1.0, 1.0)
 
 
-def parse_teacher(teacher: str | TeamSpec) -> TeamSpec:
-    """The teacher's team spec (``name`` or ``name:key=value,...``); a clear error else."""
-    if isinstance(teacher, TeamSpec):
-        return teacher
-    if not isinstance(teacher, str) or not teacher:
+def parse_teacher(teacher: str | TeamSpec, setup: TrainingSetup | None = None) -> TeamSpec:
+    """The teacher's team spec (``name`` or ``name:key=value,...``), built once on the
+    training field when ``setup`` is given (as a match would build it: an unknown team or a
+    config it rejects fails here); a ``ConfigError`` naming it else."""
+    if not isinstance(teacher, TeamSpec) and (not isinstance(teacher, str) or not teacher):
         raise ConfigError(f"imitation: teacher must be a team spec string, got {teacher!r}")
     try:
-        return parse_team_spec(teacher)
+        spec = parse_team_spec(teacher)
+        if setup is not None:
+            validate_specs([spec], MatchOptions(field=setup.field, team_size=setup.team_size))
     except TournamentError as exc:
-        raise ConfigError(f"imitation: teacher {teacher!r}: {exc}") from None
+        raise ConfigError(f"imitation: teacher {str(teacher)!r}: {exc}") from None
+    return spec
 
 
 class TeacherBatchEnv(TeamBatchEnv):
@@ -68,7 +72,7 @@ class TeacherBatchEnv(TeamBatchEnv):
 
     def __init__(self, setup: TrainingSetup, opponents: OpponentMix, teacher: str | TeamSpec,
                  copies: int = 1, seed: int = 0) -> None:
-        self.teacher = parse_teacher(teacher)
+        self.teacher = parse_teacher(teacher, setup)
         super().__init__(setup, opponents, copies=copies, seed=seed)
         a = setup.actions
         self._learned_idx = np.array(a.learned)
