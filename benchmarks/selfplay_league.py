@@ -29,13 +29,13 @@ import json
 import shutil
 import sys
 import time
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
 from scipy.stats import bootstrap
 
-from teamenv.headtohead import head_to_head
-from teamenv.match import MatchOptions
+from teamenv.match import MatchOptions, play_match
 from teamenv.seeds import EVALUATION_SEEDS, evaluation_seeds
 from teamenv.selfplay.config import LeagueConfig
 from teamenv.selfplay.curve import plot_rating_curve
@@ -92,6 +92,34 @@ def goal_difference(scores) -> dict:
                         method="BCa", random_state=np.random.default_rng(0))
         low, high = float(res.confidence_interval.low), float(res.confidence_interval.high)
     return {"mean": mean, "ci95": [low, high]}
+
+
+def _evaluation_match(task: tuple) -> dict:
+    """One evaluation match (``teamenv.headtohead``'s convention: the snapshot on the left
+    for even seeds), from the snapshot's side: score, goal times, cycles."""
+    team, config, opponent, seed, options = task
+    left = seed % 2 == 0
+    if left:
+        result = play_match(team, opponent, seed, options, left_config=config)
+    else:
+        result = play_match(opponent, team, seed, options, right_config=config)
+    mine = "left" if left else "right"
+    score = list(result.score) if left else [result.score[1], result.score[0]]
+    return {"seed": seed, "snapshot_left": left, "goals": score,
+            "goal_times_s": [[round(g.time_s, 2), "for" if g.side == mine else "against"]
+                             for g in result.goals],
+            "cycles": result.cycles,
+            "forfeit": "" if result.forfeit is None else f"seed {seed}: {result.forfeit}"}
+
+
+def evaluation_matches(team: str, config: dict, opponent: str, seeds, options: MatchOptions,
+                       jobs: int) -> list[dict]:
+    """``_evaluation_match`` for every seed, on ``jobs`` processes (same results for any)."""
+    tasks = [(team, config, opponent, s, options) for s in seeds]
+    if jobs > 1:
+        with ProcessPoolExecutor(max_workers=jobs) as pool:
+            return list(pool.map(_evaluation_match, tasks))
+    return [_evaluation_match(t) for t in tasks]
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -191,21 +219,23 @@ def main(argv: list[str] | None = None) -> None:
                  ("untrained", "gen-0000", pool.path(0), "chaser")]
         for role, name, path, opponent in games:
             t0 = time.perf_counter()
-            result = head_to_head(spec.name, opponent, seeds, options,
-                                  config_a={"path": str(path)}, jobs=args.jobs)
-            wins, draws, losses = result.record
+            rows = evaluation_matches(spec.name, {"path": str(path)}, opponent, seeds, options,
+                                      args.jobs)
+            scores = [tuple(row["goals"]) for row in rows]
+            wins = sum(a > b for a, b in scores)
+            losses = sum(a < b for a, b in scores)
+            gd = goal_difference(scores)
             report.setdefault(role if role == "untrained" else "opponents", {})[opponent] = {
-                "snapshot": name, "matches": len(result.scores),
-                "record": {"wins": wins, "draws": draws, "losses": losses},
-                "goals": list(result.goals),
-                "goal_difference_per_match": goal_difference(result.scores),
-                "per_seed": [{"seed": s, "snapshot_left": s % 2 == 0, "goals": list(score)}
-                             for s, score in zip(seeds, result.scores, strict=True)],
-                "forfeits": list(result.forfeits), "wall_s": time.perf_counter() - t0}
-            gd = goal_difference(result.scores)
-            print(f"{name} vs {opponent}: {result.summary()}; goal difference per match "
-                  f"{gd['mean']:+.3f} [{gd['ci95'][0]:+.3f}, {gd['ci95'][1]:+.3f}]",
-                  flush=True)
+                "snapshot": name, "matches": len(rows),
+                "record": {"wins": wins, "draws": len(rows) - wins - losses, "losses": losses},
+                "goals": [sum(a for a, _ in scores), sum(b for _, b in scores)],
+                "goal_difference_per_match": gd, "per_seed": rows,
+                "forfeits": [row["forfeit"] for row in rows if row["forfeit"]],
+                "wall_s": time.perf_counter() - t0}
+            print(f"{name} vs {opponent}: W{wins} D{len(rows) - wins - losses} L{losses}, "
+                  f"goals {sum(a for a, _ in scores)}-{sum(b for _, b in scores)}; goal "
+                  f"difference per match {gd['mean']:+.3f} [{gd['ci95'][0]:+.3f}, "
+                  f"{gd['ci95'][1]:+.3f}]", flush=True)
         report_path.parent.mkdir(parents=True, exist_ok=True)
         report_path.write_text(json.dumps(report, indent=1) + "\n")
         print(f"wrote {policy} and {report_path}")
