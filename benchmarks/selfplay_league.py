@@ -73,7 +73,7 @@ def demo_config(smoke: bool, learner: str = "imitation") -> LeagueConfig:
             rating=RatingSetup(games_per_pairing=1, half_time_s=45.0, halves=2, recent=2),
             learner="imitation",
             learner_options={"copies": 4, "n_steps": 256, "batch_size": 512, "n_epochs": 5,
-                             "learning_rate": 1e-4, "hidden": 128, **IMITATION_OPTIONS})
+                             "learning_rate": 3e-5, "hidden": 128, **IMITATION_OPTIONS})
     return LeagueConfig(
         seed=0, steps_per_generation=30_000, builtins=("chaser", "static", "full"),
         training=TrainingSetup(team_size=3, episode_s=60.0),

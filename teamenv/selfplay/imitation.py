@@ -18,9 +18,12 @@ teacher's own actions (behaviour cloning); round r >= 1 plays the network traine
 0..r-1 and records what the teacher would have done in the states the network reaches
 (DAgger, Ross, Gordon and Bagnell 2011: the learner is taught to recover from its own
 mistakes, which plain cloning never shows it). After each round the actor's mean network is
-fitted to all labels so far (mean squared error in the network's output space, Adam,
-``bc_epochs`` passes in minibatches of ``bc_batch``) with the observation normalisation set to
-the statistics of the data. The critic is then fitted to the discounted returns of the last
+fitted to all labels so far (squared error in the network's output space, Adam, ``bc_epochs``
+passes in minibatches of ``bc_batch``) with the observation normalisation set to the
+statistics of the data. The kick entries count only where the kick gate is open (``label_mask``):
+elsewhere the env never plays them, and the teacher's "no kick" far from the ball would make
+the regression average a step — a feeble kick at the ball (the first clone's: box power
+0.0-0.2 where the teacher kicked at 1, and it never scored). The critic is then fitted to the discounted returns of the last
 round's episodes (normalised as PPO will normalise them), so that PPO's first advantages are
 not measured against an untrained value.
 
@@ -36,6 +39,7 @@ from pathlib import Path
 
 import numpy as np
 
+from teamenv.box_layout import KICK_DIRECTION, KICK_POWER, WALK, StateLayout
 from teamenv.errors import ConfigError
 from teamenv.selfplay.learner import PolicyWeights
 from teamenv.selfplay.pfsp import OpponentMix
@@ -44,6 +48,9 @@ from teamenv.selfplay.teacher_env import TeacherBatchEnv, parse_teacher
 from teamenv.selfplay.training_setup import TrainingSetup
 
 STATE_FILE = "imitation.json"
+#: The ball's (rel_x, rel_y) columns: the same in the env's state row and in egocentric slots.
+_BALL = StateLayout(0, 0).offsets["ball"][0]
+BALL_COLUMNS = slice(_BALL, _BALL + 2)
 
 
 class ImitationPPOLearner(PPOLearner):
@@ -132,7 +139,7 @@ class ImitationPPOLearner(PPOLearner):
                 observations.append(np.concatenate(obs_r))
                 labels.append(np.concatenate(labels_r))
                 x, y = np.concatenate(observations), np.concatenate(labels)
-                loss = self._fit_actor(x, y, rng, torch)
+                loss = self._fit_actor(x, y, self.label_mask(x, env.gate_m), rng, torch)
                 self.clone_log.append({
                     "round": r, "played_by": "teacher" if r == 0 else "network",
                     "samples": int(len(x)), "bc_loss": loss,
@@ -152,10 +159,27 @@ class ImitationPPOLearner(PPOLearner):
     def _normalize(self, x: np.ndarray) -> np.ndarray:
         return self.vec_env.normalize_obs(x).astype(np.float32)
 
-    def _fit_actor(self, x: np.ndarray, y: np.ndarray, rng: np.random.Generator,
-                   torch) -> float:
-        """Observation statistics from ``x``, then the actor's mean to ``y`` (MSE); the
-        final epoch's mean loss."""
+    def label_mask(self, x: np.ndarray, gate_m: float | None) -> np.ndarray:
+        """Which label entries count (n, action_size): a kick entry only where the kick gate
+        is open (the ball within ``gate_m`` at the decision: anywhere else the env never sees
+        the network's kick, and the teacher's "no kick" there would teach the network to
+        average a step, a feeble kick at the ball), a walk entry unless the walk is a reflex."""
+        a = self.setup.actions
+        mask = np.ones((len(x), len(a.learned)), dtype=np.float32)
+        if gate_m is not None:
+            ball = x[:, BALL_COLUMNS]
+            open_ = np.hypot(ball[:, 0], ball[:, 1]) <= gate_m
+            for k, entry in enumerate(a.learned):
+                if entry in (KICK_POWER, KICK_DIRECTION):
+                    mask[:, k] = open_
+                elif a.walk_to_ball and WALK.start <= entry < WALK.stop:
+                    mask[:, k] = 0.0
+        return mask
+
+    def _fit_actor(self, x: np.ndarray, y: np.ndarray, mask: np.ndarray,
+                   rng: np.random.Generator, torch) -> float:
+        """Observation statistics from ``x``, then the actor's mean to ``y`` (squared error
+        over the entries ``mask`` keeps); the final epoch's mean loss per kept entry."""
         rms = self.vec_env.obs_rms
         rms.mean = x.mean(axis=0).astype(np.float64)
         rms.var = x.var(axis=0).astype(np.float64)
@@ -166,20 +190,23 @@ class ImitationPPOLearner(PPOLearner):
         optimiser = torch.optim.Adam(params, lr=self.bc_learning_rate)
         inputs = torch.as_tensor(self._normalize(x))
         targets = torch.as_tensor(y, dtype=torch.float32)
+        weights = torch.as_tensor(mask, dtype=torch.float32)
         loss_value = float("nan")
         for _ in range(self.bc_epochs):
             order = rng.permutation(len(x))
-            total = 0.0
+            total, kept = 0.0, 0.0
             for start in range(0, len(x), self.bc_batch):
                 idx = torch.as_tensor(order[start:start + self.bc_batch])
                 latent = policy.mlp_extractor.forward_actor(
                     policy.extract_features(inputs[idx], policy.pi_features_extractor))
-                loss = torch.nn.functional.mse_loss(policy.action_net(latent), targets[idx])
+                w = weights[idx]
+                squared = w * (policy.action_net(latent) - targets[idx]) ** 2
+                loss = squared.sum() / w.sum().clamp(min=1.0)
                 optimiser.zero_grad()
                 loss.backward()
                 optimiser.step()
-                total += loss.item() * len(idx)
-            loss_value = total / len(x)
+                total, kept = total + squared.sum().item(), kept + w.sum().item()
+            loss_value = total / max(kept, 1.0)
         with torch.no_grad():
             policy.log_std.fill_(self.bc_log_std)
         return loss_value
