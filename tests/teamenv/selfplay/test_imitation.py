@@ -14,7 +14,7 @@ from teamenv.box_layout import decode_box_actions
 from teamenv.errors import ConfigError
 from teamenv.selfplay.pfsp import OpponentMix
 from teamenv.selfplay.teacher_env import TeacherBatchEnv, dict_to_box_action
-from teamenv.selfplay.training_setup import TrainingSetup
+from teamenv.selfplay.training_setup import ActionSetup, TrainingSetup, kick_gate_m
 
 SETUP = TrainingSetup(team_size=3, episode_s=6.0)
 LOW, HIGH = np.array([-0.3, -0.25, -1.0]), np.array([0.6, 0.25, 1.0])
@@ -112,8 +112,9 @@ def cloned():
 def test_cloning_fits_the_teacher_on_held_out_states(cloned):
     learner, _, before = cloned
     x, y = _held_out()
-    error_before = float(np.mean((before - y) ** 2))
-    error_after = float(np.mean((learner.act(x) - y) ** 2))
+    mask = learner.label_mask(x, kick_gate_m())
+    error_before = float(np.sum(mask * (before - y) ** 2) / mask.sum())
+    error_after = float(np.sum(mask * (learner.act(x) - y) ** 2) / mask.sum())
     assert error_after < 0.5 * error_before, (error_before, error_after)
     log = learner.clone_log
     assert [r["played_by"] for r in log] == ["teacher", "network"]
@@ -144,6 +145,22 @@ def test_a_checkpoint_carries_the_clone_over_to_ppo(cloned, tmp_path):
     after = resumed.train(192, OpponentMix.single("static", 0), seed=12)  # PPO now
     assert resumed.model.num_timesteps > 900
     assert not np.array_equal(after.layers[-1][0], weights.layers[-1][0])
+
+
+def test_the_kick_labels_count_only_where_the_kick_gate_is_open():
+    learner = _learner()
+    gate = kick_gate_m()
+    x = np.zeros((3, learner.batch.observation_size), dtype=np.float32)
+    x[:, 7:9] = [[gate * 0.6, gate * 0.8], [gate + 0.01, 0.0], [3.0, -2.0]]  # ball.rel_x, rel_y
+    mask = learner.label_mask(x, gate)
+    assert mask.tolist() == [[1, 1, 1, 1, 1], [1, 1, 1, 0, 0], [1, 1, 1, 0, 0]]
+    assert learner.label_mask(x, None).tolist() == [[1] * 5] * 3  # no gate: every entry
+    reflex = TrainingSetup(team_size=3, actions=ActionSetup(walk_to_ball=True))
+    from teamenv.selfplay.imitation import ImitationPPOLearner
+
+    walker = ImitationPPOLearner(reflex, seed=0, teacher="chaser", **TINY)
+    assert walker.label_mask(x, gate).tolist() == [[0, 0, 0, 1, 1], [0, 0, 0, 0, 0],
+                                                   [0, 0, 0, 0, 0]]
 
 
 @pytest.mark.parametrize("options, message", [
