@@ -131,8 +131,9 @@ class ImitationPPOLearner(PPOLearner):
                     obs_r.append(obs)
                     labels_r.append(target)
                     action = target if r == 0 else self.act(obs)
-                    if r > 0:
-                        agreement.append(np.abs(action - target).mean())
+                    if r > 0:  # on the entries that count (label_mask)
+                        mask = self.label_mask(obs, env.gate_m)
+                        agreement.append((mask * np.abs(action - target)).sum() / max(mask.sum(), 1.0))
                     obs, reward, done, _ = env.step(action)
                     rewards.append(reward)
                     dones.append(done)
