@@ -1,9 +1,11 @@
-"""The self-play league's demo run: a 3 v 3 team trained by PPO against PFSP opponents, its
-rating curve, and the rated-best snapshot evaluated in full matches on evaluation seeds.
+"""The self-play league's demo run: a 3 v 3 team trained against PFSP opponents (the clone of
+``chaser``, then PPO; ``--learner ppo``: PPO from scratch, the first run), its rating curve,
+and the rated-best snapshot evaluated in full matches on evaluation seeds.
 
-    python benchmarks/selfplay_league.py --max-minutes 40          # train + rate (resumable)
+    python benchmarks/selfplay_league.py --max-minutes 32          # train + rate (resumable)
     python benchmarks/selfplay_league.py --evaluate 40             # + 40 evaluation matches
     python benchmarks/selfplay_league.py --smoke                   # seconds: what CI runs
+    python benchmarks/selfplay_league.py --learner ppo ...         # the first run's setup
 
 Phases, each resumable by running the command again:
 
@@ -17,7 +19,8 @@ Phases, each resumable by running the command again:
    range) plays ``chaser`` and
    ``full`` N matches each on the evaluation seeds (``teamenv.seeds``), sides alternating
    (``teamenv.headtohead``), and the untrained snapshot 0 plays ``chaser`` on the same seeds
-   (what training changed); the goal difference per match with a 95 % bootstrap interval
+   (what training changed), and an imitation run's teacher plays ``chaser`` there too (what
+   the clone was taught); the goal difference per match with a 95 % bootstrap interval
    (``scipy.stats.bootstrap``, BCa, over matches); the snapshot file and the per-seed report
    are written to ``--policy`` and ``--report``.
 """
@@ -44,6 +47,7 @@ from teamenv.selfplay.league_store import LEAGUE_DB, LeagueStore
 from teamenv.selfplay.rating import RatingSetup, rating_tournament
 from teamenv.selfplay.snapshots import SnapshotPool
 from teamenv.selfplay.training_setup import TrainingSetup
+from teamenv.tournament.spec import parse_team_spec
 
 #: The learners of the demo: "imitation" (the committed run: PPO warm-started by cloning
 #: chaser, ``teamenv.selfplay.imitation``) and "ppo" (from scratch: the first run).
@@ -217,15 +221,19 @@ def main(argv: list[str] | None = None) -> None:
                   "seeds": [seeds[0], seeds[-1]], "opponents": {}}
         games = [("learned", best, policy, "chaser"), ("learned", best, policy, "full"),
                  ("untrained", "gen-0000", pool.path(0), "chaser")]
+        teacher = config.learner_options.get("teacher")
+        if teacher is not None:  # what the clone was taught: the teacher against chaser
+            games.append(("teacher", str(teacher), None, "chaser"))
         for role, name, path, opponent in games:
             t0 = time.perf_counter()
-            rows = evaluation_matches(spec.name, {"path": str(path)}, opponent, seeds, options,
-                                      args.jobs)
+            team, team_config = (spec.name, {"path": str(path)}) if path is not None else (
+                parse_team_spec(name).name, parse_team_spec(name).config_dict)
+            rows = evaluation_matches(team, team_config, opponent, seeds, options, args.jobs)
             scores = [tuple(row["goals"]) for row in rows]
             wins = sum(a > b for a, b in scores)
             losses = sum(a < b for a, b in scores)
             gd = goal_difference(scores)
-            report.setdefault(role if role == "untrained" else "opponents", {})[opponent] = {
+            report.setdefault("opponents" if role == "learned" else role, {})[opponent] = {
                 "snapshot": name, "matches": len(rows),
                 "record": {"wins": wins, "draws": len(rows) - wins - losses, "losses": losses},
                 "goals": [sum(a for a, _ in scores), sum(b for _, b in scores)],
