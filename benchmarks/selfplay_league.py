@@ -1,9 +1,11 @@
-"""The self-play league's demo run: a 3 v 3 team trained by PPO against PFSP opponents, its
-rating curve, and the rated-best snapshot evaluated in full matches on evaluation seeds.
+"""The self-play league's demo run: a 3 v 3 team trained against PFSP opponents (the clone of
+``chaser``, then PPO; ``--learner ppo``: PPO from scratch, the first run), its rating curve,
+and the rated-best snapshot evaluated in full matches on evaluation seeds.
 
-    python benchmarks/selfplay_league.py --max-minutes 40          # train + rate (resumable)
+    python benchmarks/selfplay_league.py --max-minutes 32          # train + rate (resumable)
     python benchmarks/selfplay_league.py --evaluate 40             # + 40 evaluation matches
     python benchmarks/selfplay_league.py --smoke                   # seconds: what CI runs
+    python benchmarks/selfplay_league.py --learner ppo ...         # the first run's setup
 
 Phases, each resumable by running the command again:
 
@@ -17,7 +19,8 @@ Phases, each resumable by running the command again:
    range) plays ``chaser`` and
    ``full`` N matches each on the evaluation seeds (``teamenv.seeds``), sides alternating
    (``teamenv.headtohead``), and the untrained snapshot 0 plays ``chaser`` on the same seeds
-   (what training changed); the goal difference per match with a 95 % bootstrap interval
+   (what training changed), and an imitation run's teacher plays ``chaser`` there too (what
+   the clone was taught); the goal difference per match with a 95 % bootstrap interval
    (``scipy.stats.bootstrap``, BCa, over matches); the snapshot file and the per-seed report
    are written to ``--policy`` and ``--report``.
 """
@@ -29,13 +32,13 @@ import json
 import shutil
 import sys
 import time
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
 from scipy.stats import bootstrap
 
-from teamenv.headtohead import head_to_head
-from teamenv.match import MatchOptions
+from teamenv.match import MatchOptions, play_match
 from teamenv.seeds import EVALUATION_SEEDS, evaluation_seeds
 from teamenv.selfplay.config import LeagueConfig
 from teamenv.selfplay.curve import plot_rating_curve
@@ -44,16 +47,37 @@ from teamenv.selfplay.league_store import LEAGUE_DB, LeagueStore
 from teamenv.selfplay.rating import RatingSetup, rating_tournament
 from teamenv.selfplay.snapshots import SnapshotPool
 from teamenv.selfplay.training_setup import TrainingSetup
+from teamenv.tournament.spec import parse_team_spec
+
+#: The learners of the demo: "imitation" (the committed run: PPO warm-started by cloning
+#: chaser, ``teamenv.selfplay.imitation``) and "ppo" (from scratch: the first run).
+LEARNERS = ("imitation", "ppo")
+#: The imitation learner's options beyond PPO's (the teacher and the clone).
+IMITATION_OPTIONS = {"teacher": "chaser", "dagger_rounds": 2, "bc_epochs": 30,
+                     "bc_log_std": -1.5}
 
 
-def demo_config(smoke: bool) -> LeagueConfig:
+def demo_config(smoke: bool, learner: str = "imitation") -> LeagueConfig:
     """The committed run's configuration (``smoke``: a seconds-long version of it)."""
+    if learner not in LEARNERS:
+        raise ValueError(f"learner {learner!r}: one of {LEARNERS}")
     if smoke:
+        extra = {**IMITATION_OPTIONS, "dagger_rounds": 1, "bc_epochs": 2} \
+            if learner == "imitation" else {}
         return LeagueConfig(
             seed=0, steps_per_generation=192, builtins=("chaser", "static"),
             training=TrainingSetup(team_size=3, episode_s=2.0),
             rating=RatingSetup(half_time_s=5.0, halves=1, recent=1, n_bootstrap=20),
-            learner_options={"copies": 1, "n_steps": 64, "batch_size": 64, "n_epochs": 2})
+            learner=learner, learner_options={"copies": 1, "n_steps": 64, "batch_size": 64,
+                                              "n_epochs": 2, **extra})
+    if learner == "imitation":
+        return LeagueConfig(
+            seed=0, steps_per_generation=36_000, builtins=("chaser", "static", "full"),
+            training=TrainingSetup(team_size=3, episode_s=60.0),
+            rating=RatingSetup(games_per_pairing=1, half_time_s=45.0, halves=2, recent=2),
+            learner="imitation",
+            learner_options={"copies": 4, "n_steps": 256, "batch_size": 512, "n_epochs": 5,
+                             "learning_rate": 3e-5, "hidden": 128, **IMITATION_OPTIONS})
     return LeagueConfig(
         seed=0, steps_per_generation=30_000, builtins=("chaser", "static", "full"),
         training=TrainingSetup(team_size=3, episode_s=60.0),
@@ -72,6 +96,34 @@ def goal_difference(scores) -> dict:
                         method="BCa", random_state=np.random.default_rng(0))
         low, high = float(res.confidence_interval.low), float(res.confidence_interval.high)
     return {"mean": mean, "ci95": [low, high]}
+
+
+def _evaluation_match(task: tuple) -> dict:
+    """One evaluation match (``teamenv.headtohead``'s convention: the snapshot on the left
+    for even seeds), from the snapshot's side: score, goal times, cycles."""
+    team, config, opponent, seed, options = task
+    left = seed % 2 == 0
+    if left:
+        result = play_match(team, opponent, seed, options, left_config=config)
+    else:
+        result = play_match(opponent, team, seed, options, right_config=config)
+    mine = "left" if left else "right"
+    score = list(result.score) if left else [result.score[1], result.score[0]]
+    return {"seed": seed, "snapshot_left": left, "goals": score,
+            "goal_times_s": [[round(g.time_s, 2), "for" if g.side == mine else "against"]
+                             for g in result.goals],
+            "cycles": result.cycles,
+            "forfeit": "" if result.forfeit is None else f"seed {seed}: {result.forfeit}"}
+
+
+def evaluation_matches(team: str, config: dict, opponent: str, seeds, options: MatchOptions,
+                       jobs: int) -> list[dict]:
+    """``_evaluation_match`` for every seed, on ``jobs`` processes (same results for any)."""
+    tasks = [(team, config, opponent, s, options) for s in seeds]
+    if jobs > 1:
+        with ProcessPoolExecutor(max_workers=jobs) as pool:
+            return list(pool.map(_evaluation_match, tasks))
+    return [_evaluation_match(t) for t in tasks]
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -93,15 +145,19 @@ def main(argv: list[str] | None = None) -> None:
                         help="default examples/policies/selfplay_3v3.npz")
     parser.add_argument("--report", type=Path, default=None,
                         help="default benchmarks/results/selfplay_evaluation.json")
+    parser.add_argument("--learner", choices=LEARNERS, default="imitation",
+                        help="imitation (default: cloning chaser, then PPO) or ppo (from "
+                             "scratch, the first run); the default paths below name it")
     parser.add_argument("--smoke", action="store_true", help="a tiny run (seconds)")
     args = parser.parse_args(argv)
     smoke = args.smoke
-    run_dir = args.run_dir or Path("runs/selfplay_league" + ("_smoke" if smoke else ""))
+    tag = "_imitation" if args.learner == "imitation" else ""
+    run_dir = args.run_dir or Path(f"runs/selfplay{tag}_league" + ("_smoke" if smoke else ""))
     curve = args.curve or (run_dir / "curve.png" if smoke else
-                           Path("docs/selfplay_rating_curve.png"))
+                           Path(f"docs/selfplay{tag}_rating_curve.png"))
     record = args.json or (run_dir / "league.json" if smoke else
-                           Path("benchmarks/results/selfplay_league.json"))
-    config = demo_config(smoke)
+                           Path(f"benchmarks/results/selfplay{tag}_league.json"))
+    config = demo_config(smoke, args.learner)
     generations = 2 if smoke else args.generations
 
     start = time.perf_counter()
@@ -150,9 +206,9 @@ def main(argv: list[str] | None = None) -> None:
         best = next(t for t in final.bradley_terry if t.startswith("gen-") and t != "gen-0000")
         generation = int(best.split("-")[1])
         policy = args.policy or (run_dir / "best.npz" if smoke else
-                                 Path("examples/policies/selfplay_3v3.npz"))
+                                 Path(f"examples/policies/selfplay_3v3{tag}.npz"))
         report_path = args.report or (run_dir / "evaluation.json" if smoke else
-                                      Path("benchmarks/results/selfplay_evaluation.json"))
+                                      Path(f"benchmarks/results/selfplay{tag}_evaluation.json"))
         policy.parent.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(pool.path(generation), policy)
         spec = pool.spec(generation)
@@ -165,23 +221,29 @@ def main(argv: list[str] | None = None) -> None:
                   "seeds": [seeds[0], seeds[-1]], "opponents": {}}
         games = [("learned", best, policy, "chaser"), ("learned", best, policy, "full"),
                  ("untrained", "gen-0000", pool.path(0), "chaser")]
+        teacher = config.learner_options.get("teacher")
+        if teacher is not None:  # what the clone was taught: the teacher against chaser
+            games.append(("teacher", str(teacher), None, "chaser"))
         for role, name, path, opponent in games:
             t0 = time.perf_counter()
-            result = head_to_head(spec.name, opponent, seeds, options,
-                                  config_a={"path": str(path)}, jobs=args.jobs)
-            wins, draws, losses = result.record
-            report.setdefault(role if role == "untrained" else "opponents", {})[opponent] = {
-                "snapshot": name, "matches": len(result.scores),
-                "record": {"wins": wins, "draws": draws, "losses": losses},
-                "goals": list(result.goals),
-                "goal_difference_per_match": goal_difference(result.scores),
-                "per_seed": [{"seed": s, "snapshot_left": s % 2 == 0, "goals": list(score)}
-                             for s, score in zip(seeds, result.scores, strict=True)],
-                "forfeits": list(result.forfeits), "wall_s": time.perf_counter() - t0}
-            gd = goal_difference(result.scores)
-            print(f"{name} vs {opponent}: {result.summary()}; goal difference per match "
-                  f"{gd['mean']:+.3f} [{gd['ci95'][0]:+.3f}, {gd['ci95'][1]:+.3f}]",
-                  flush=True)
+            team, team_config = (spec.name, {"path": str(path)}) if path is not None else (
+                parse_team_spec(name).name, parse_team_spec(name).config_dict)
+            rows = evaluation_matches(team, team_config, opponent, seeds, options, args.jobs)
+            scores = [tuple(row["goals"]) for row in rows]
+            wins = sum(a > b for a, b in scores)
+            losses = sum(a < b for a, b in scores)
+            gd = goal_difference(scores)
+            report.setdefault("opponents" if role == "learned" else role, {})[opponent] = {
+                "snapshot": name, "matches": len(rows),
+                "record": {"wins": wins, "draws": len(rows) - wins - losses, "losses": losses},
+                "goals": [sum(a for a, _ in scores), sum(b for _, b in scores)],
+                "goal_difference_per_match": gd, "per_seed": rows,
+                "forfeits": [row["forfeit"] for row in rows if row["forfeit"]],
+                "wall_s": time.perf_counter() - t0}
+            print(f"{name} vs {opponent}: W{wins} D{len(rows) - wins - losses} L{losses}, "
+                  f"goals {sum(a for a, _ in scores)}-{sum(b for _, b in scores)}; goal "
+                  f"difference per match {gd['mean']:+.3f} [{gd['ci95'][0]:+.3f}, "
+                  f"{gd['ci95'][1]:+.3f}]", flush=True)
         report_path.parent.mkdir(parents=True, exist_ok=True)
         report_path.write_text(json.dumps(report, indent=1) + "\n")
         print(f"wrote {policy} and {report_path}")

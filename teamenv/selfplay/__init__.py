@@ -2,6 +2,7 @@
 
 ``teamenv selfplay run`` (``teamenv.selfplay.cli``) or ``run_league`` (``league``) trains a
 team generation by generation: a learner (``learner.Learner``; SB3 PPO in ``sb3_learner``)
+(``imitation``: PPO warm-started by cloning a scripted teacher in ``teacher_env``)
 trains against opponents drawn by prioritized fictitious self-play (``pfsp``) from the
 built-in teams and its own earlier snapshots (``snapshots``), each new snapshot is rated in a
 gauntlet by ``teamenv.tournament`` (``rating``), and the ratings pick the next opponents. A
@@ -23,6 +24,7 @@ _EXPORTS = {
     "run_league": "league", "OpponentMix": "pfsp", "pfsp_probabilities": "pfsp",
     "TeamBatchEnv": "batch_env", "Learner": "learner", "PolicyWeights": "learner",
     "SnapshotPool": "snapshots", "LeagueStore": "league_store",
+    "TeacherBatchEnv": "teacher_env", "ImitationPPOLearner": "imitation",
 }
 
 __all__ = sorted(_EXPORTS)

@@ -105,11 +105,17 @@ class TeamBatchEnv:
             if s.shaping else None
         cycles = max(1, round(s.episode_s / 0.02))
         right = {} if opponent is None else {"right": opponent.name,
-                                             "right_config": opponent.config_dict}
+                                             "right_config": opponent.config_dict,
+                                             **self._learning_side_options()}
         return SoccerParallelEnv(field=s.field, team_size=s.team_size,
                                  observation_format="box", action_format="box",
                                  reward=s.reward, reward_fn=shaping, max_cycles=cycles,
                                  profile_phases=False, **right)
+
+    def _learning_side_options(self) -> dict:
+        """More env options for a training match (a subclass names a team for the learning
+        side whose players the caller drives: ``teamenv.selfplay.teacher_env``)."""
+        return {}
 
     def _env_for(self, copy: int, opponent) -> SoccerParallelEnv:
         cache = self._cache[copy]

@@ -50,7 +50,8 @@ _CONFIG_OPTIONS = (
     ("--rating-recent", "recent", int,
      "earlier snapshots each new one is rated against (default 3)"),
     ("--bootstrap", "n_bootstrap", int, "bootstrap resamples of the intervals (default 200)"),
-    ("--learner", "learner", str, "ppo (Stable-Baselines3, default) | module:Class"),
+    ("--learner", "learner", str, "ppo (Stable-Baselines3, default) | imitation (PPO "
+     "warm-started by cloning a teacher: --learner-option teacher=chaser) | module:Class"),
 )
 _TRAINING_KEYS = ("field", "team_size", "episode_s", "observation", "teammate_slots",
                   "opponent_slots", "gamma")

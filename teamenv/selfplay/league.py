@@ -71,18 +71,23 @@ def generation_seed(seed: int, generation: int, purpose: str) -> int:
 
 
 def make_learner(config: LeagueConfig) -> Learner:
-    """The learner ``config.learner`` names: "ppo" or ``module:Class``."""
+    """The learner ``config.learner`` names: "ppo", "imitation" (PPO warm-started by cloning
+    a teacher, ``teamenv.selfplay.imitation``) or ``module:Class``."""
     if config.learner == "ppo":
         from teamenv.selfplay.sb3_learner import PPOLearner
 
         factory: Callable[..., Any] = PPOLearner
+    elif config.learner == "imitation":
+        from teamenv.selfplay.imitation import ImitationPPOLearner
+
+        factory = ImitationPPOLearner
     else:
         module, _, name = config.learner.partition(":")
         try:
             factory = getattr(importlib.import_module(module), name)
         except (ImportError, AttributeError, ValueError) as exc:
             raise ConfigError(f"selfplay: learner {config.learner!r}: cannot load it ({exc}); "
-                              "give 'ppo' or 'module:Class'") from None
+                              "give 'ppo', 'imitation' or 'module:Class'") from None
     try:
         return factory(config.training, seed=config.seed, **config.learner_options)
     except TypeError as exc:
