@@ -50,7 +50,7 @@ from teamenv.selfplay.training_setup import TrainingSetup
 STATE_FILE = "imitation.json"
 #: The ball's (rel_x, rel_y) columns: the same in the env's state row and in egocentric slots.
 _BALL = StateLayout(0, 0).offsets["ball"][0]
-BALL_COLUMNS = slice(_BALL, _BALL + 2)
+BALL_XY = slice(_BALL, _BALL + 2)
 
 
 class ImitationPPOLearner(PPOLearner):
@@ -169,7 +169,7 @@ class ImitationPPOLearner(PPOLearner):
         a = self.setup.actions
         mask = np.ones((len(x), len(a.learned)), dtype=np.float32)
         if gate_m is not None:
-            ball = x[:, BALL_COLUMNS]
+            ball = x[:, BALL_XY]
             open_ = np.hypot(ball[:, 0], ball[:, 1]) <= gate_m
             for k, entry in enumerate(a.learned):
                 if entry in (KICK_POWER, KICK_DIRECTION):
