@@ -14,9 +14,9 @@ from pathlib import Path
 from typing import Any
 
 from teamenv.capabilities import DEFAULT_LOCOMOTION_PROFILE
-from teamenv.config import RulesConfig
+from teamenv.config import RulesConfig, build_config
 from teamenv.env import SIDES, SoccerParallelEnv
-from teamenv.errors import ConfigError, TeamFault
+from teamenv.errors import TeamFault
 from teamenv.replay import ReplayRecorder
 from teamenv.teams import team_version
 
@@ -83,11 +83,7 @@ class MatchOptions:
 
     @classmethod
     def from_dict(cls, values: Mapping[str, Any]) -> MatchOptions:
-        known = set(cls.__dataclass_fields__)
-        unknown = sorted(set(values) - known)
-        if unknown:
-            raise ConfigError(f"match options: unknown key(s) {unknown}; known: {sorted(known)}")
-        return cls(**dict(values))
+        return build_config(cls, values, section="match options")
 
     def env_kwargs(self) -> dict[str, Any]:
         """The ``SoccerParallelEnv`` keyword arguments that play a match with these options

@@ -12,6 +12,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from teamenv.config import build_config
 from teamenv.errors import ConfigError
 from teamenv.selfplay.pfsp import check_weighting
 from teamenv.selfplay.rating import RatingSetup
@@ -98,19 +99,11 @@ class LeagueConfig:
 
     @classmethod
     def from_json(cls, data: Mapping[str, Any]) -> LeagueConfig:
-        known = set(cls.__dataclass_fields__)
-        unknown = sorted(set(data) - known)
-        if unknown:
-            raise ConfigError(f"selfplay: unknown key(s) {unknown}; known: {sorted(known)}")
         values = dict(data)
         if "training" in values:
             values["training"] = TrainingSetup.from_json(values["training"])
         if "rating" in values:
-            rating = dict(values["rating"])
-            bad = sorted(set(rating) - set(RatingSetup.__dataclass_fields__))
-            if bad:
-                raise ConfigError(f"rating: unknown key(s) {bad}")
-            values["rating"] = RatingSetup(**rating)
+            values["rating"] = build_config(RatingSetup, values["rating"], section="rating")
         if "builtins" in values:
             values["builtins"] = tuple(values["builtins"])
-        return cls(**values)
+        return build_config(cls, values, section="selfplay")

@@ -14,6 +14,7 @@ import locomotion
 import portable_math as pm
 from teamenv.box_layout import ACTION_SIZE
 from teamenv.capabilities import DEFAULT_LOCOMOTION_PROFILE
+from teamenv.config import build_config
 from teamenv.errors import ConfigError
 from teamenv.field import field_preset
 from teamenv.rewards import reward_weights
@@ -181,15 +182,7 @@ class TrainingSetup:
 
     @classmethod
     def from_json(cls, data: Mapping[str, Any]) -> TrainingSetup:
-        known = set(cls.__dataclass_fields__)
-        unknown = sorted(set(data) - known)
-        if unknown:
-            raise ConfigError(f"training: unknown key(s) {unknown}; known: {sorted(known)}")
         values = dict(data)
-        if "actions" in values and not isinstance(values["actions"], ActionSetup):
-            actions = dict(values["actions"])
-            bad = sorted(set(actions) - set(ActionSetup.__dataclass_fields__))
-            if bad:
-                raise ConfigError(f"actions: unknown key(s) {bad}")
-            values["actions"] = ActionSetup(**actions)
-        return cls(**values)
+        if "actions" in values:
+            values["actions"] = build_config(ActionSetup, values["actions"], section="actions")
+        return build_config(cls, values, section="training")
