@@ -2,8 +2,10 @@
 
     python benchmarks/league_falls.py --seeds 100201:100204 --seconds 40          # ramp on and off
     python benchmarks/league_falls.py --seeds 100201:100202 --ramp on --json out.json
+    python benchmarks/league_falls.py --left chaser --right static --team-size 1 --seconds 120 \
+        --ramp off --seeds 100201:100211                # one robot kicking on its own
 
-Plays ``--left`` v ``--right`` (7 v 7, ``LocalServer``, the league's default walk) for every
+Plays ``--left`` v ``--right`` (7 v 7 unless ``--team-size``, ``LocalServer``, the league's default walk) for every
 seed, once with the command ramp (``teamenv.league.command_ramp``) and once without, records
 each match as a replay and reads its falls with ``teamenv.league.replay.fall_events`` (latched
 falls, the nearest other robot 5 cycles before). For each fall it reports what the robot's
@@ -15,7 +17,8 @@ smooths). The encoder's state is read by wrapping ``RequestEncoder.encode`` for 
 ``league_match_cost.py`` wraps the parts it times).
 
 Prints falls per match for each setting with the share near another robot (< 1 m) and the
-share by state; ``--json`` writes every fall.
+share by state, and the kicks that moved the ball at least ``KICK_M`` (the replay's kicks) and
+the goals per match; ``--json`` writes every fall.
 """
 
 from __future__ import annotations
@@ -29,6 +32,8 @@ from contextlib import contextmanager
 from pathlib import Path
 
 NEAR_M = 1.0
+#: a kick in the replay that moved the ball this far (m) counts as a kick (not a touch)
+KICK_M = 1.0
 LOOKBACK_CYCLES = 50
 
 
@@ -72,7 +77,8 @@ def _jumped(walks: list[tuple[float, float, float]], accel, cycle_s: float) -> b
                for w0, w1 in zip(walks, walks[1:], strict=False))
 
 
-def play(left: str, right: str, seed: int, seconds: float, ramp: bool, workdir: Path) -> dict:
+def play(left: str, right: str, seed: int, seconds: float, ramp: bool, workdir: Path,
+         team_size: int = 7) -> dict:
     from locomotion import load_profile
     from teamenv.league.controller import CYCLE_S
     from teamenv.league.match import LOCOMOTION_PROFILE, LeagueMatchOptions, play_league_match
@@ -85,13 +91,13 @@ def play(left: str, right: str, seed: int, seconds: float, ramp: bool, workdir: 
     start = time.process_time()
     with _recording(log):
         result = play_league_match(left, right, LeagueMatchOptions(
-            team_size=7, game_s=seconds, server="local", ramp=ramp), seed=seed, replay_path=path)
+            team_size=team_size, game_s=seconds, server="local", ramp=ramp), seed=seed, replay_path=path)
     cpu = time.process_time() - start
     replay = load_replay(path)
     # player index (left team first, by uniform number) -> the agent's name in the log
     agents = []
     for team_prefix in _team_prefixes(log):
-        agents += [f"{team_prefix}_{u}" for u in range(1, 8)]
+        agents += [f"{team_prefix}_{u}" for u in range(1, team_size + 1)]
     falls = []
     for event in fall_events(replay):
         # replay row r is recorded after the encoders' call r + 1 (the first is the beam)
@@ -102,7 +108,10 @@ def play(left: str, right: str, seed: int, seconds: float, ramp: bool, workdir: 
                       "state": history[-1][0] if history else "unknown",
                       "jump": _jumped(walks, accel, CYCLE_S)})
     return {"left": left, "right": right, "seed": seed, "seconds": seconds, "ramp": ramp,
-            "score": list(result.score), "cpu_s": round(cpu, 1), "falls": falls}
+            "score": list(result.score), "cpu_s": round(cpu, 1), "falls": falls,
+            "team_size": team_size,
+            "kicks": 0 if replay.kick_distance is None
+            else int((replay.kick_distance >= KICK_M).sum())}
 
 
 def _team_prefixes(log: dict[str, list]) -> list[str]:
@@ -117,7 +126,8 @@ def _team_prefixes(log: dict[str, list]) -> list[str]:
 
 
 def summary(matches: list[dict]) -> str:
-    lines = ["setting   matches  falls/match  near (<1 m)  after a jump  by state"]
+    lines = ["setting   matches  falls/match  kicks/match  goals/match  near (<1 m)  after a jump"
+             "  by state"]
     for ramp in (True, False):
         runs = [m for m in matches if m["ramp"] == ramp]
         if not runs:
@@ -127,6 +137,8 @@ def summary(matches: list[dict]) -> str:
         states = Counter(f["state"] for f in falls)
         lines.append(
             f"{'ramp' if ramp else 'no ramp':9s} {len(runs):7d}  {len(falls) / len(runs):11.2f}  "
+            f"{sum(m.get('kicks', 0) for m in runs) / len(runs):11.2f}  "
+            f"{sum(sum(m['score']) for m in runs) / len(runs):11.2f}  "
             f"{sum(f['nearest_m'] < NEAR_M for f in falls) / n:10.0%}  "
             f"{sum(f['jump'] for f in falls) / n:12.0%}  "
             + ", ".join(f"{k} {v}" for k, v in states.most_common()))
@@ -141,6 +153,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--right", default="chaser")
     parser.add_argument("--seeds", default="100201:100204", help="START:STOP (half-open)")
     parser.add_argument("--seconds", type=float, default=40.0)
+    parser.add_argument("--team-size", type=int, default=7)
     parser.add_argument("--ramp", choices=("both", "on", "off"), default="both")
     parser.add_argument("--json", type=Path, default=None)
     args = parser.parse_args(argv)
@@ -150,10 +163,11 @@ def main(argv: list[str] | None = None) -> None:
     with tempfile.TemporaryDirectory() as tmp:
         for seed in range(first, stop):
             for ramp in settings:
-                m = play(args.left, args.right, seed, args.seconds, ramp, Path(tmp))
+                m = play(args.left, args.right, seed, args.seconds, ramp, Path(tmp),
+                         args.team_size)
                 matches.append(m)
                 print(f"seed {seed} {'ramp' if ramp else 'no ramp'}: {len(m['falls'])} falls, "
-                      f"score {m['score']}, {m['cpu_s']} CPU s", flush=True)
+                      f"{m['kicks']} kicks, score {m['score']}, {m['cpu_s']} CPU s", flush=True)
     print(summary(matches))
     if args.json:
         args.json.write_text(json.dumps({"matches": matches}, indent=1) + "\n")

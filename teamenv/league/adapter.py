@@ -26,7 +26,8 @@ the motion plays to its end whatever is asked meanwhile (walk and kick requests 
 a beam cancels it). The kick is a kick step of our walker: with our ``WalkerController`` as
 the controller it continues the controller's own gait, and the walk goes on from there; with
 another controller (e.g. the reference network) the kick's own ``WalkerController`` takes
-over the approach within ``KICK_LATCH_M`` of the ball and the controller starts afresh
+over the approach within ``KICK_LATCH_M`` of the ball, once the controller has braked the
+robot to the approach's pace (``teamenv.league.handover``), and the controller starts afresh
 (``reset()``) when it walks again. Before the ball was ever seen a kick request walks along the kick direction.
 ``kick=None`` turns kicks off (a kick request is then a walk through the ball, the old
 behaviour, kept for comparison).
@@ -52,6 +53,7 @@ from .controller import CYCLE_S, LocomotionController, WalkerController
 from .errors import LeagueError
 from .falls import is_fallen
 from .getup import GetUpMotion
+from .handover import HandOver
 from .kick import BallTracker, KickMotion, approach_command, in_kick_spot
 from .perception import Perception, Polar
 
@@ -156,6 +158,8 @@ class RequestEncoder:
         #: the get-up motion run when the robot is down (None: lying robots get the request)
         self.get_up = GetUpMotion() if get_up == "default" else get_up
         self.ball = BallTracker()
+        #: near the ball the controller brakes before the kick's walker takes over
+        self.handover = HandOver()
         self._motion = None   # the kick or get-up now playing
         self._latch = None    # (power, world heading, seconds left) of the last kick request
         self.profile = get_profile(channel)
@@ -228,15 +232,25 @@ class RequestEncoder:
                 near = self.kick.shares_walker and math.hypot(*ball) <= KICK_LATCH_M
                 command = approach_command(ball, direction, self.kick.params)
                 if not near:
-                    return self._step(self.controller, self._ramped(command), perception)
+                    return self._walk(self._ramped(command), perception)
+                if self._walking is not self.kick.walker and not self.handover.ready:
+                    # slow down on the controller first: the kick's walker starts from rest
+                    return self._step(self.controller, self.handover.brake(command), perception)
                 if self.ramp is not None:
                     self.ramp.reset()     # the controller starts afresh after the hand-over
                 return self._step(self.kick.walker, command, perception)
         walk = self._ramped(walk)
         if self.stand_when_idle and kick is None and not any(walk):
             self._walking = self.controller
+            self.handover.walked((0.0, 0.0, 0.0))
             return self.controller.stand(perception)
-        return self._step(self.controller, walk, perception)
+        return self._walk(walk, perception)
+
+    def _walk(self, command, perception: Perception) -> str:
+        """One cycle of the controller walking ``command`` (what a hand-over brakes from)."""
+        message = self._step(self.controller, command, perception)
+        self.handover.walked(command)
+        return message
 
     def _ramped(self, command):
         """``command`` inside the controller's envelope, through the ramp (if any)."""
@@ -250,12 +264,15 @@ class RequestEncoder:
         stepped last."""
         if self._walking is not walker:
             walker.reset()
+            if walker is self.controller:
+                self.handover.reset()     # its walk starts from rest
             self._walking = walker
         return walker.step(command, perception)
 
     def encode(self, request: Request, perception: Perception) -> str:
         parts: list[str] = []
         self.ball.update(perception)
+        self.handover.torso.update(perception)
         if request.beam is not None:
             # every motor is commanded every cycle (an uncommanded one lets rcsssmj zero
             # every robot's controls, see docs/league.md): a beam comes with the stance

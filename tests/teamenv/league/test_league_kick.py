@@ -349,6 +349,9 @@ def test_with_another_walk_the_kicks_walker_takes_over_near_the_ball():
         enc.ball.world = np.array([x + d * math.cos(yaw), y + d * math.sin(yaw), 0.11])
         enc.ball.age_s = 0.0
 
+    for _ in range(30):     # standing still (the hand-over waits for a slow torso)
+        enc.encode(Request(walk=(0.3, 0.0, 0.0)), p)
+    other.steps = 0
     ball_ahead(3.0)
     assert enc.encode(Request(kick=(1.0, 0.0)), p) == "(other)"      # far: the team's walk
     ball_ahead(0.7)
@@ -359,3 +362,66 @@ def test_with_another_walk_the_kicks_walker_takes_over_near_the_ball():
     ball_ahead(3.0)
     assert enc.encode(Request(walk=(0.3, 0.0, 0.0)), p) == "(other)"   # back, afresh
     assert other.resets == 1
+
+
+def test_a_walking_robot_brakes_on_its_walk_before_the_kicks_walker_takes_over():
+    from teamenv.league.adapter import Request, RequestEncoder
+    from teamenv.league.controller import CYCLE_S, torso_pose
+    from teamenv.league.handover import HANDOVER_MAX_S, HANDOVER_SPEED_M_S
+
+    class Other:   # the reference network, recording its commands
+        def __init__(self):
+            self.commands = []
+
+        def reset(self):
+            pass
+
+        def stand(self, perception):
+            return "(stand)"
+
+        def step(self, command, perception):
+            self.commands.append(tuple(command))
+            return "(other)"
+
+    base = Perception(**{**_perception().__dict__, "vision": None})
+    x, y, yaw = torso_pose(base)
+    other = Other()
+    enc = RequestEncoder(other, "agent K_1", get_up=None)
+    place = [x, y]
+
+    def walked(speed):      # the torso moved ``speed`` along its heading this cycle
+        place[0] += speed * CYCLE_S * math.cos(yaw)
+        place[1] += speed * CYCLE_S * math.sin(yaw)
+        z = base.positions["torso_pos"][2]
+        return Perception(**{**base.__dict__,
+                             "positions": {**base.positions, "torso_pos": (*place, z)}})
+
+    def ball_ahead(d):
+        enc.ball.world = np.array([place[0] + d * math.cos(yaw), place[1] + d * math.sin(yaw),
+                                   0.11])
+        enc.ball.age_s = 0.0
+
+    for _ in range(40):     # the team walks it at 1 m/s
+        enc.encode(Request(walk=(1.0, 0.0, 0.0)), walked(1.0))
+    ball_ahead(0.7)
+    msg = enc.encode(Request(kick=(1.0, 0.0)), walked(1.0))
+    assert msg == "(other)"                               # still the team's walk: braking
+    assert 0.9 < other.commands[-1][0] < 1.0              # from 1 m/s, at the braking rate
+    # the torso keeps its speed: the walk brakes until HANDOVER_MAX_S, then hands over
+    cycles = 1
+    while enc.encode(Request(kick=(1.0, 0.0)), walked(1.0)) == "(other)":
+        ball_ahead(0.7)
+        cycles += 1
+        assert cycles < 200
+    assert cycles == pytest.approx(HANDOVER_MAX_S / CYCLE_S, abs=1)
+    assert other.commands[-1][0] <= 0.3                   # braked to the approach's speed
+    # a torso that slows down is handed over as soon as it is slow
+    enc = RequestEncoder(other, "agent K_1", get_up=None)
+    for _ in range(40):
+        enc.encode(Request(walk=(1.0, 0.0, 0.0)), walked(1.0))
+    ball_ahead(0.7)
+    cycles = 0
+    while enc.encode(Request(kick=(1.0, 0.0)), walked(0.5 * HANDOVER_SPEED_M_S)) == "(other)":
+        ball_ahead(0.7)
+        cycles += 1
+    assert 0 < cycles < HANDOVER_MAX_S / CYCLE_S - 10
