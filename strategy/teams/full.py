@@ -16,6 +16,7 @@ from strategy.behaviours.skills import Skills
 from strategy.geometry import BallRoll
 from strategy.perception.perceiver import perceiver_for
 from strategy.positioning.formation.sized import team_formation
+from strategy.positioning.roles.voting import RoleVoters
 from strategy.teams.full_config import FullTeamConfig
 from strategy.teams.player import Player, decide_team, decision_makers
 from strategy.teams.talk import talk_for
@@ -64,9 +65,11 @@ class FullTeam:
         # decide in one pass (decide_team), each from its own belief
         makers = decision_makers(self.config, self.skills, formations["defend"].goalie_index,
                                  memo)
+        # and one set of ballot boxes: the team's votes counted in one pass
+        voters = RoleVoters(context.team_size, range(len(context.agents)))
         self.players = {
             agent: Player(k, agent, context.side, self.config, formations, self.skills,
-                          context.channel, memo, self.talk, makers)
+                          context.channel, memo, self.talk, makers, voters)
             for k, agent in enumerate(context.agents)
         }
 

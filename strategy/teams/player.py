@@ -18,9 +18,10 @@ from strategy.behaviours.motion import Hold, resolve_holds, search_ball
 from strategy.behaviours.skills import Skills
 from strategy.decision import FieldPlayerDecisionMaker, GoalieDecisionMaker
 from strategy.decision.setplays import Situation, situation, we_kick_off_next
-from strategy.perception.worldmodel import WorldModel, shared
+from strategy.perception.worldmodel import WorldModel, WorldView, shared
 from strategy.positioning import PositioningAgent, PositioningDecision
 from strategy.positioning.formation.model import Formation
+from strategy.positioning.roles.voting import RoleVoters
 from strategy.teams.full_config import FullTeamConfig
 from strategy.teams.talk import RoleVoteTalk, TeamReportTalk
 
@@ -45,13 +46,16 @@ class Player:
             (``state`` mode).
         makers: the team's decision makers (``decision_makers``), shared by its players so
             that ``decide_team`` decides for all of them in one pass; None: its own.
+        voters: the team's ballot boxes (``RoleVoters``, row = player index), so that the
+            team's votes are counted in one pass; None: a box of its own.
     """
 
     def __init__(self, me: int, name: str, side: str, config: FullTeamConfig,
                  formations: Mapping[str, Formation], skills: Skills, channel: str,
                  memo: dict | None = None,
                  talk: RoleVoteTalk | TeamReportTalk | None = None,
-                 makers: DecisionMakers | None = None) -> None:
+                 makers: DecisionMakers | None = None,
+                 voters: RoleVoters | None = None) -> None:
         self.me, self.name, self.side = me, name, side
         self.config = config
         self.formations = dict(formations)
@@ -59,7 +63,8 @@ class Player:
         defend = self.formations["defend"]
         self.positioning = PositioningAgent(
             me, defend, skills.field, marking=config.marking_params(), channel=channel,
-            say_every=config.say_every, memo=memo)
+            say_every=config.say_every, memo=memo,
+            voter=None if voters is None else voters.voter(me))
         goalie = defend.goalie_index
         if makers is None:
             makers = decision_makers(config, skills, goalie, memo)
@@ -114,26 +119,8 @@ class Player:
 
     def position(self, wm: WorldModel) -> tuple[PositioningDecision, str]:
         """This cycle's positioning decision from this agent's belief ``wm``, and what it
-        says.
-
-        One path for both observation modes: the team's ``talk`` protocol
-        (``strategy.teams.talk``) says which role votes the agent heard, what it counts as
-        its own vote and what it says this cycle.
-        """
-        talk = self.talk
-        cycle = self.positioning.cycle
-        # the anticipated view is a function of the beliefs: their key identifies it
-        view = wm.positioning_view(anticipate=True)
-        formation = self.formation_for(wm)
-        decision = self.positioning.step(view, (), formation, wm.belief_key or None,
-                                         votes=talk.votes(self.positioning, wm),
-                                         own_ballot=talk.own_ballot(self.me), vote=talk.vote,
-                                         since_own_change=talk.since_own_change)
-        say = talk.say(self.me, cycle, wm, decision)
-        if situation(wm.play_mode) is Situation.BEAM:
-            decision = decision._replace(target=self.beam_slot(formation),
-                                         position_index=self.me)
-        return decision, say
+        says (``position_team`` with n = 1)."""
+        return position_team([self], [wm])[0]
 
     def beam_slot(self, formation: Formation) -> NDArray[np.float64]:
         """Where this agent is beamed before a kick-off: its own position (by uniform number)
@@ -162,13 +149,64 @@ def decision_makers(config: FullTeamConfig, skills: Skills, goalie: int | None,
                                              field_player=field_player)
 
 
+def position_team(players: Sequence[Player], wms: Sequence[WorldModel]
+                  ) -> list[tuple[PositioningDecision, str]]:
+    """Each player's positioning decision from its own belief, and what it says, for the
+    team in one pass (``PositioningAgent.step_all``: the votes of players whose ballot boxes
+    are rows of one ``RoleVoters`` counted together); the formation and the anticipated view
+    looked up once per distinct belief.
+
+    One path for both observation modes: the team's ``talk`` protocol
+    (``strategy.teams.talk``) says which role votes each agent heard, what it counts as its
+    own vote and what it says this cycle.
+    """
+    looked_up: dict[tuple, tuple[Formation, WorldView]] = {}
+    formations, views = [], []
+    for player, wm in zip(players, wms, strict=True):
+        # a function of the beliefs (their key) and of who the player is on which side
+        key = (wm.belief_key, wm.half, player.side, id(player.formations), id(player.config))
+        found = looked_up.get(key) if wm.belief_key else None
+        if found is None:
+            found = looked_up[key] = (player.formation_for(wm),
+                                      wm.positioning_view(anticipate=True))
+        formations.append(found[0])
+        views.append(found[1])
+    talks = [player.talk for player in players]
+    cycles = [player.positioning.cycle for player in players]
+    first = talks[0]
+    if any((t.vote, t.since_own_change) != (first.vote, first.since_own_change) for t in talks):
+        decisions = [PositioningAgent.step_all(  # players that vote differently: one by one
+            [p.positioning], [view], [formation], [wm.belief_key or None],
+            [talk.votes(p.positioning, wm)], [talk.own_ballot(p.me)], vote=talk.vote,
+            since_own_change=talk.since_own_change)[0]
+            for p, wm, talk, view, formation in zip(players, wms, talks, views, formations,
+                                                    strict=True)]
+    else:
+        decisions = PositioningAgent.step_all(
+            [p.positioning for p in players], views, formations,
+            [wm.belief_key or None for wm in wms],
+            [talk.votes(p.positioning, wm) for p, wm, talk in zip(players, wms, talks,
+                                                                  strict=True)],
+            [talk.own_ballot(p.me) for p, talk in zip(players, talks, strict=True)],
+            vote=first.vote, since_own_change=first.since_own_change)
+    out = []
+    for player, wm, talk, cycle, decision, formation in zip(players, wms, talks, cycles,
+                                                            decisions, formations, strict=True):
+        say = talk.say(player.me, cycle, wm, decision)
+        if situation(wm.play_mode) is Situation.BEAM:
+            decision = decision._replace(target=player.beam_slot(formation),
+                                         position_index=player.me)
+        out.append((decision, say))
+    return out
+
+
 def decide_team(players: Sequence[Player], wms: Sequence[WorldModel]) -> list[ControlRequest]:
     """The control requests of ``players[i]`` from its own belief ``wms[i]``, in passes over
     the team: every agent's positioning, then each decision maker's agents together
     (``plan_all``: ball players, supporters, pulled positions as arrays over agents), then
     every hold of the team together (``resolve_holds``); the walks follow in one pass when
     the actions are built (``team_actions``)."""
-    steps = [player.position(wm) for player, wm in zip(players, wms, strict=True)]
+    steps = position_team(players, wms)
     plans: list[ControlRequest | Hold | None] = [None] * len(players)
     groups: dict[int, tuple[Any, list[int]]] = {}
     for i, (player, wm) in enumerate(zip(players, wms, strict=True)):
