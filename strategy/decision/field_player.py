@@ -32,7 +32,7 @@ from strategy.decision.setplays import (
     situation,
     take_set_play,
 )
-from strategy.perception.worldmodel import WorldModel, shared
+from strategy.perception.worldmodel import WorldModel, shared, shared_rows
 from strategy.positioning import PositioningDecision
 
 MOVING_BALL_M_S = 1.0
@@ -115,7 +115,8 @@ class FieldPlayerDecisionMaker:
         others = chosen != me
         supporting = np.zeros(len(wms), dtype=bool)
         if c.cover_m > 0 and others.any():
-            d = np.array([self.ball_reach(wms[i]) for i in rows[others].tolist()])
+            d = shared_rows(self.memo, "ball_reach", [wms[i] for i in rows[others].tolist()],
+                            self._ball_reach)
             if self.goalie is not None:
                 d[:, self.goalie] = np.inf
             d[np.arange(len(d)), chosen[others]] = np.inf
@@ -173,8 +174,7 @@ class FieldPlayerDecisionMaker:
         """(n,) for each agent, the upright teammate who can be at the ball first (the goalie
         only if nobody else is upright); the agent's previous ball player keeps it unless
         beaten by the hysteresis margin. One pass over (agents x teammates)."""
-        d = np.array([shared(self.memo, "field_reach", wm, lambda wm=wm: self._field_reach(wm))
-                      for wm in wms])
+        d = shared_rows(self.memo, "field_reach", wms, self._field_reach)
         prev = np.array([self.ball_players.get(wm.me, -1) for wm in wms])
         rows = np.flatnonzero(prev >= 0)
         rows = rows[np.isfinite(d[rows, prev[rows]])]

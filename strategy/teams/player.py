@@ -59,6 +59,8 @@ class Player:
         self.me, self.name, self.side = me, name, side
         self.config = config
         self.formations = dict(formations)
+        # which formations these are (teammates share them, and so their lookups)
+        self.formation_ids = tuple((kind, id(f)) for kind, f in self.formations.items())
         self.skills = skills
         defend = self.formations["defend"]
         self.positioning = PositioningAgent(
@@ -164,7 +166,7 @@ def position_team(players: Sequence[Player], wms: Sequence[WorldModel]
     formations, views = [], []
     for player, wm in zip(players, wms, strict=True):
         # a function of the beliefs (their key) and of who the player is on which side
-        key = (wm.belief_key, wm.half, player.side, id(player.formations), id(player.config))
+        key = (wm.belief_key, wm.half, player.side, player.formation_ids, id(player.config))
         found = looked_up.get(key) if wm.belief_key else None
         if found is None:
             found = looked_up[key] = (player.formation_for(wm),
