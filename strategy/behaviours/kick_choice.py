@@ -23,6 +23,7 @@ at the goal mouth are raced for, and credited with ground, at the goal line (see
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -56,17 +57,23 @@ class KickChoice:
     goal_chance: float = 0.0
 
 
-def _reach_times(points: NDArray[np.float64], players: NDArray[np.float64],
-                 usable: NDArray[np.bool_], fallen: NDArray[np.bool_],
-                 speed: float, fallen_s: float) -> NDArray[np.float64]:
-    """(P,) the earliest any usable player reaches each point, seconds (a fallen one starts
-    ``fallen_s`` late)."""
-    if not usable.any():
-        return np.full(len(points), np.inf)
-    p = players[usable]
+def _reach_times(points: NDArray[np.float64],
+                 sides: Sequence[tuple[NDArray[np.float64], NDArray[np.bool_], NDArray[np.bool_]]],
+                 speed: float, fallen_s: float) -> list[NDArray[np.float64]]:
+    """Per side (players, usable, fallen): (P,) the earliest any of its usable players
+    reaches each point, seconds (a fallen one starts ``fallen_s`` late); inf where it has
+    none. Both sides' distances in one pass."""
+    rows = [players[usable] for players, usable, _ in sides]
+    p = np.concatenate(rows)
     t = np.hypot(points[:, None, 0] - p[None, :, 0], points[:, None, 1] - p[None, :, 1]) / speed
-    t += np.where(fallen[usable], fallen_s, 0.0)[None, :]
-    return t.min(axis=1)
+    t += np.where(np.concatenate([fallen[usable] for _, usable, fallen in sides]),
+                  fallen_s, 0.0)[None, :]
+    out, start = [], 0
+    for r in rows:
+        out.append(t[:, start:start + len(r)].min(axis=1) if len(r)
+                   else np.full(len(points), np.inf))
+        start += len(r)
+    return out
 
 
 def _lane_blocked(ball: NDArray[np.float64], ends: NDArray[np.float64],
@@ -141,12 +148,12 @@ def best_kick(wm: WorldModel, body: BodyCapabilities, walk_speed: float,
         mates_usable[k] = False
     mates_usable[wm.me] = False
     # A player seen lying needs its get-up (its fall is mostly over when it is seen down).
-    ours = _reach_times(landing, wm.teammates, mates_usable, wm.teammates_fallen, walk_speed,
-                        body.getup_s)
+    ours, theirs = _reach_times(
+        landing, ((wm.teammates, mates_usable, wm.teammates_fallen),
+                  (wm.opponents, wm.opponents_present, wm.opponents_fallen)),
+        walk_speed, body.getup_s)
     mine = body.kick_duration_s + np.hypot(*(landing - wm.position).T) / walk_speed
     ours = np.minimum(ours, mine)
-    theirs = _reach_times(landing, wm.opponents, wm.opponents_present, wm.opponents_fallen,
-                          walk_speed, body.getup_s)
     margin = np.clip(theirs - ours, -10.0, 10.0)
     blocked = _lane_blocked(ball, landing, wm.opponents[wm.opponents_present])
     margin = np.where(blocked, -3.0, margin)
