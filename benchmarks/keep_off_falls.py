@@ -27,9 +27,9 @@ NEAR_M = 0.6
 
 def falls(seed: int, keep_off: bool, team_size: int, half_time: float) -> np.ndarray:
     """(3,) falls with a teammate / an opponent / nobody within ``NEAR_M``."""
-    original = motion.keep_off_teammates
+    original = motion.keep_off_teammates_all
     if not keep_off:
-        motion.keep_off_teammates = lambda wm, target, clearance: target
+        motion.keep_off_teammates_all = lambda wms, targets, clearance: targets
     try:
         env = teamenv.parallel_env(left="full", right="full", field="mj7v7",
                                    team_size=team_size,
@@ -51,7 +51,7 @@ def falls(seed: int, keep_off: bool, team_size: int, half_time: float) -> np.nda
         env.close()
         return out
     finally:
-        motion.keep_off_teammates = original
+        motion.keep_off_teammates_all = original
 
 
 def main() -> None:

@@ -23,6 +23,7 @@ at the goal mouth are raced for, and credited with ground, at the goal line (see
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -56,17 +57,23 @@ class KickChoice:
     goal_chance: float = 0.0
 
 
-def _reach_times(points: NDArray[np.float64], players: NDArray[np.float64],
-                 usable: NDArray[np.bool_], fallen: NDArray[np.bool_],
-                 speed: float, fallen_s: float) -> NDArray[np.float64]:
-    """(P,) the earliest any usable player reaches each point, seconds (a fallen one starts
-    ``fallen_s`` late)."""
-    if not usable.any():
-        return np.full(len(points), np.inf)
-    p = players[usable]
+def _reach_times(points: NDArray[np.float64],
+                 sides: Sequence[tuple[NDArray[np.float64], NDArray[np.bool_], NDArray[np.bool_]]],
+                 speed: float, fallen_s: float) -> list[NDArray[np.float64]]:
+    """Per side (players, usable, fallen): (P,) the earliest any of its usable players
+    reaches each point, seconds (a fallen one starts ``fallen_s`` late); inf where it has
+    none. Both sides' distances in one pass."""
+    rows = [players[usable] for players, usable, _ in sides]
+    p = np.concatenate(rows)
     t = np.hypot(points[:, None, 0] - p[None, :, 0], points[:, None, 1] - p[None, :, 1]) / speed
-    t += np.where(fallen[usable], fallen_s, 0.0)[None, :]
-    return t.min(axis=1)
+    t += np.where(np.concatenate([fallen[usable] for _, usable, fallen in sides]),
+                  fallen_s, 0.0)[None, :]
+    out, start = [], 0
+    for r in rows:
+        out.append(t[:, start:start + len(r)].min(axis=1) if len(r)
+                   else np.full(len(points), np.inf))
+        start += len(r)
+    return out
 
 
 def _lane_blocked(ball: NDArray[np.float64], ends: NDArray[np.float64],
@@ -123,19 +130,10 @@ def best_kick(wm: WorldModel, body: BodyCapabilities, walk_speed: float,
     goal = wm.opponent_goal
     base = math.atan2(goal[1] - ball[1], goal[0] - ball[0])
     angles = base + DIRECTIONS
-    ends, powers = [], []
-    for power in POWERS:
-        reach = power * body.kick_distance_mean_m
-        ends.append(ball + reach * np.column_stack([np.cos(angles), np.sin(angles)]))
-        powers.extend([power] * len(angles))
-    ys = np.linspace(-0.6, 0.6, 3) * f.half_goal_width
-    shots = np.column_stack([np.full(len(ys), f.half_length + 1.0), ys])
-    ends.append(shots)
-    powers.extend([1.0] * len(shots))
-    end = np.concatenate(ends)
-    power_arr = np.asarray(powers)
-    is_shot = np.zeros(len(end), dtype=bool)
-    is_shot[-len(shots):] = True
+    fan = np.column_stack([np.cos(angles), np.sin(angles)])
+    reaches = np.array(POWERS) * body.kick_distance_mean_m
+    shots, power_arr, is_shot = _candidates(f.half_length, f.half_goal_width)
+    end = np.concatenate(((ball + reaches[:, None, None] * fan).reshape(-1, 2), shots))
     # A kick at the goal mouth is credited (race and ground gained) at the goal line, not
     # where a mean kick would stop: a deliberate bias towards kicking at the goal. The ball
     # goes in, goes out for a corner or goal kick, or is fought for in their box; against
@@ -150,26 +148,52 @@ def best_kick(wm: WorldModel, body: BodyCapabilities, walk_speed: float,
         mates_usable[k] = False
     mates_usable[wm.me] = False
     # A player seen lying needs its get-up (its fall is mostly over when it is seen down).
-    ours = _reach_times(landing, wm.teammates, mates_usable, wm.teammates_fallen, walk_speed,
-                        body.getup_s)
+    ours, theirs = _reach_times(
+        landing, ((wm.teammates, mates_usable, wm.teammates_fallen),
+                  (wm.opponents, wm.opponents_present, wm.opponents_fallen)),
+        walk_speed, body.getup_s)
     mine = body.kick_duration_s + np.hypot(*(landing - wm.position).T) / walk_speed
     ours = np.minimum(ours, mine)
-    theirs = _reach_times(landing, wm.opponents, wm.opponents_present, wm.opponents_fallen,
-                          walk_speed, body.getup_s)
     margin = np.clip(theirs - ours, -10.0, 10.0)
     blocked = _lane_blocked(ball, landing, wm.opponents[wm.opponents_present])
     margin = np.where(blocked, -3.0, margin)
-    value = possession_weight * pm.tanh(margin / 2.0) \
-        + progress_weight * (landing[:, 0] - ball[0])
-    # a shot through a crowd still has its chance (deflections): halved, not lost
-    p_goal = goal_chances(f.half_length, f.half_goal_width, np.broadcast_to(ball, end.shape),
-                          end, power_arr, body) * np.where(blocked, 0.5, 1.0)
-    # a pass is worth the shot the receiver can take from where it wins the ball
-    win = 0.5 * (1.0 + pm.tanh(margin / 2.0))
-    follow = goal_chances(f.half_length, f.half_goal_width, landing,
-                          np.broadcast_to(goal, end.shape), np.ones(len(end)), body)
-    value += goal_weight * np.where(is_shot, p_goal, follow_up * win * follow)
+    race = pm.tanh(margin / 2.0)
+    value = possession_weight * race + progress_weight * (landing[:, 0] - ball[0])
+    # a shot through a crowd still has its chance (deflections): halved, not lost (one ball
+    # for every candidate: its goal-mouth angles are computed once)
+    p_goal = goal_chances(f.half_length, f.half_goal_width, ball[None, :], end, power_arr,
+                          body) * np.where(blocked, 0.5, 1.0)
+    # a pass is worth the shot the receiver can take from where it wins the ball (only the
+    # kicks that can be chosen: the others' values are -inf below)
+    passes = on_pitch & ~is_shot
+    win = 0.5 * (1.0 + race[passes])
+    follow = np.zeros(len(end))
+    follow[passes] = follow_up * win * goal_chances(
+        f.half_length, f.half_goal_width, landing[passes], goal[None, :], _FULL_POWER, body)
+    value += goal_weight * np.where(is_shot, p_goal, follow)
     value = np.where(on_pitch | is_shot, value, -np.inf)
     k = int(np.argmax(value))
     return KickChoice(end[k], float(power_arr[k]), float(value[k]), float(margin[k]),
                       bool(is_shot[k]), float(p_goal[k]) if is_shot[k] else 0.0)
+
+
+_FULL_POWER = np.ones(1)
+_CANDIDATES: dict[tuple[float, float], tuple[NDArray[np.float64], NDArray[np.float64],
+                                             NDArray[np.bool_]]] = {}
+
+
+def _candidates(half_length: float, half_goal_width: float
+                ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
+    """The fixed part of ``best_kick``'s candidates on a pitch: the shots' aim points at the
+    goal mouth, every candidate's power and which are shots (after the fan of directions at
+    each of ``POWERS``). Held per pitch; do not modify."""
+    key = (half_length, half_goal_width)
+    fixed = _CANDIDATES.get(key)
+    if fixed is None:
+        ys = np.linspace(-0.6, 0.6, 3) * half_goal_width
+        shots = np.column_stack([np.full(len(ys), half_length + 1.0), ys])
+        powers = np.array([p for p in POWERS for _ in DIRECTIONS] + [1.0] * len(shots))
+        is_shot = np.zeros(len(powers), dtype=bool)
+        is_shot[-len(shots):] = True
+        fixed = _CANDIDATES[key] = (shots, powers, is_shot)
+    return fixed

@@ -4,6 +4,8 @@ search for it, beam, and keep out of a circle (the referee's distance at the oth
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -28,23 +30,54 @@ def keep_off_teammates(wm: WorldModel, target: NDArray[np.float64],
     ``clearance`` of it, the point ``clearance`` from that teammate on the way in: the
     teammate that got there first keeps the spot and the other stops beside it instead of
     walking into it (two teammates sent to one spot meet there and may knock each other
-    over)."""
-    mates = wm.teammates_present.copy()
-    mates[wm.me] = False
-    if not mates.any():
-        return target
-    rows = wm.teammates[mates]
-    gap = np.hypot(rows[:, 0] - target[0], rows[:, 1] - target[1])
-    mine = math.hypot(wm.position[0] - target[0], wm.position[1] - target[1])
-    holding = (gap < clearance) & (gap < mine)
-    if not holding.any():
-        return target
-    occupant = rows[int(np.argmin(np.where(holding, gap, np.inf)))]
-    away = target - occupant
-    if math.hypot(away[0], away[1]) < 1e-6:  # the target is the teammate: stop on our side
-        away = wm.position - occupant
-    norm = math.hypot(away[0], away[1])
-    return occupant + away * (clearance / norm) if norm > 1e-9 else target
+    over). One agent: ``keep_off_teammates_all`` with n = 1."""
+    return keep_off_teammates_all([wm], np.asarray(target, dtype=np.float64)[None],
+                                  clearance)[0]
+
+
+def keep_off_teammates_all(wms: Sequence[WorldModel], targets: NDArray[np.float64],
+                           clearance: float) -> NDArray[np.float64]:
+    """(n, 2) ``keep_off_teammates`` of each agent ``wms[i]`` and its ``targets[i]``: the
+    distance tests of all agents in one pass over (agents x teammates), the rare step-aside
+    per agent. Each row depends only on that agent's own belief."""
+    out = np.array(targets, dtype=np.float64)  # a copy: rows are replaced below
+    mates = np.array([wm.teammates_present for wm in wms])
+    every = np.arange(len(wms))
+    mates[every, [wm.me for wm in wms]] = False
+    rows = np.array([wm.teammates for wm in wms])  # (n, N, 2)
+    gap = np.hypot(rows[:, :, 0] - out[:, None, 0], rows[:, :, 1] - out[:, None, 1])
+    own = np.array([wm.position for wm in wms]) - out
+    mine = np.array([math.hypot(dx, dy) for dx, dy in own.tolist()])
+    holding = mates & (gap < clearance) & (gap < mine[:, None])
+    for i in np.flatnonzero(holding.any(axis=1)).tolist():
+        occupant = rows[i, int(np.argmin(np.where(holding[i], gap[i], np.inf)))]
+        target = out[i].copy()
+        away = target - occupant
+        if math.hypot(away[0], away[1]) < 1e-6:  # the target is the teammate: stop on our side
+            away = wms[i].position - occupant
+        norm = math.hypot(away[0], away[1])
+        if norm > 1e-9:
+            out[i] = occupant + away * (clearance / norm)
+    return out
+
+
+def walk_goals(wms: Sequence[WorldModel], targets: NDArray[np.float64], skills: Skills,
+               faces: Sequence[ArrayLike | None] | None = None, speed: float | None = None,
+               avoid: bool = True) -> list[WalkGoal]:
+    """Each agent's ``WalkGoal`` to ``targets[i]`` (see ``go_to``), the teammate keep-off of
+    all agents in one pass."""
+    if not wms:
+        return []
+    points = np.asarray(targets, dtype=np.float64)
+    if avoid:
+        points = keep_off_teammates_all(wms, points,
+                                        2.0 * skills.body.body_radius + KEEP_OFF_MARGIN_M)
+    faces = faces if faces is not None else [None] * len(wms)
+    return [WalkGoal(wm.position, wm.heading, point,
+                     *wm.obstacle_rows() if avoid else (_NO_PLAYERS, None),
+                     face=None if face is None else np.asarray(face, dtype=np.float64),
+                     speed=speed, params=skills.navigation)
+            for wm, point, face in zip(wms, points, faces, strict=True)]
 
 
 def go_to(wm: WorldModel, target: ArrayLike, skills: Skills, face: ArrayLike | None = None,
@@ -53,15 +86,10 @@ def go_to(wm: WorldModel, target: ArrayLike, skills: Skills, face: ArrayLike | N
     """Walk to ``target`` (team frame), around the other players when ``avoid`` (potential
     field; then also stopping beside a teammate that already holds the target,
     ``keep_off_teammates``), turning to face ``face`` near the target. The walk command is
-    computed when first read, or with the team's (``resolve_walks``)."""
-    goal_point = np.asarray(target, dtype=np.float64)
-    if avoid:
-        goal_point = keep_off_teammates(wm, goal_point,
-                                        2.0 * skills.body.body_radius + KEEP_OFF_MARGIN_M)
-    goal = WalkGoal(wm.position, wm.heading, goal_point,
-                    *wm.obstacle_rows() if avoid else (_NO_PLAYERS, None),
-                    face=None if face is None else np.asarray(face, dtype=np.float64),
-                    speed=speed, params=skills.navigation)
+    computed when first read, or with the team's (``resolve_walks``). One agent:
+    ``walk_goals`` with n = 1."""
+    goal = walk_goals([wm], np.asarray(target, dtype=np.float64)[None], skills, [face],
+                      speed, avoid)[0]
     return ControlRequest.walking(goal, behaviour)
 
 
@@ -73,14 +101,51 @@ def face_ball(wm: WorldModel, skills: Skills) -> ControlRequest:
                           behaviour="face_ball")
 
 
+class Hold(NamedTuple):
+    """A decision to hold ``target`` (walk there, face the ball), credited to ``behaviour``:
+    decision makers return it so that a team resolves all its holds in one pass
+    (``resolve_holds``)."""
+
+    target: NDArray[np.float64]
+    behaviour: str = "hold_position"
+
+
 def hold_position(wm: WorldModel, target: ArrayLike, skills: Skills,
                   behaviour: str = "hold_position") -> ControlRequest:
-    """Go to a formation (or marking) position and face the ball there."""
-    t = np.asarray(target, dtype=np.float64)
-    if wm.distance(t) < skills.navigation.arrive_m * 2:
-        request = face_ball(wm, skills)
-        return ControlRequest(walk=request.walk, behaviour=behaviour)
-    return go_to(wm, t, skills, face=wm.ball, behaviour=behaviour)
+    """Go to a formation (or marking) position and face the ball there. One agent:
+    ``hold_positions`` with n = 1."""
+    return hold_positions([wm], [Hold(np.asarray(target, dtype=np.float64), behaviour)],
+                          skills)[0]
+
+
+def hold_positions(wms: Sequence[WorldModel], holds: Sequence[Hold],
+                   skills: Skills) -> list[ControlRequest]:
+    """``hold_position`` of each agent ``wms[i]`` at ``holds[i]``: who has arrived (stands
+    and turns to the ball) and the walks of the others (``walk_goals``) in one pass."""
+    if not holds:
+        return []
+    targets = np.array([hold.target for hold in holds], dtype=np.float64)
+    offsets = targets - np.array([wm.position for wm in wms])
+    near = skills.navigation.arrive_m * 2
+    arrived = [math.hypot(dx, dy) < near for dx, dy in offsets.tolist()]
+    walking = [i for i, done in enumerate(arrived) if not done]
+    goals = iter(walk_goals([wms[i] for i in walking], targets[walking], skills,
+                            [wms[i].ball for i in walking]))
+    return [ControlRequest(walk=face_ball(wm, skills).walk, behaviour=hold.behaviour) if done
+            else ControlRequest.walking(next(goals), hold.behaviour)
+            for wm, hold, done in zip(wms, holds, arrived, strict=True)]
+
+
+def resolve_holds(wms: Sequence[WorldModel], plans: Sequence[ControlRequest | Hold],
+                  skills: Skills) -> list[ControlRequest]:
+    """The decision makers' ``plans`` as requests: every ``Hold`` of the team resolved
+    together (``hold_positions``), the requests as they are."""
+    held = [i for i, plan in enumerate(plans) if isinstance(plan, Hold)]
+    out = list(plans)
+    for i, request in zip(held, hold_positions([wms[i] for i in held],
+                                               [plans[i] for i in held], skills), strict=True):
+        out[i] = request
+    return out  # type: ignore[return-value]
 
 
 def search_ball(wm: WorldModel, skills: Skills) -> ControlRequest:

@@ -10,6 +10,7 @@ observations, always agree); the only memory is the last ball player, for hyster
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -17,13 +18,12 @@ from strategy.behaviours import (
     Skills,
     beam_to,
     dribble,
-    hold_position,
     kick_to,
 )
 from strategy.behaviours.ball import in_kick_reach
 from strategy.behaviours.control import ControlRequest
 from strategy.behaviours.kick_choice import MIN_SHOT_CHANCE, best_kick
-from strategy.behaviours.motion import detour, go_to
+from strategy.behaviours.motion import Hold, detour, go_to, resolve_holds
 from strategy.decision.params import DecisionParams
 from strategy.decision.setplays import (
     Situation,
@@ -32,7 +32,7 @@ from strategy.decision.setplays import (
     situation,
     take_set_play,
 )
-from strategy.perception.worldmodel import WorldModel, shared
+from strategy.perception.worldmodel import WorldModel, shared, shared_rows
 from strategy.positioning import PositioningDecision
 
 MOVING_BALL_M_S = 1.0
@@ -41,8 +41,14 @@ chosen, and run, by where they can meet it."""
 
 
 class FieldPlayerDecisionMaker:
-    """Decides for a field player: play the ball when it is the team's ball player, else hold
-    its voted formation (or marking) position; set plays and beaming by the play mode."""
+    """Decides for a team's field players: play the ball when it is the team's ball player,
+    else hold its voted formation (or marking) position; set plays and beaming by the play
+    mode.
+
+    One maker serves any number of agents: ``plan_all`` decides for all of them in one pass
+    (who plays the ball, who supports, where the others stand: arrays over agents), each
+    agent from its own belief, with its own memory (the ball player it chose last, by player
+    index). ``decide`` is that pass for one agent."""
 
     def __init__(self, config: DecisionParams, skills: Skills, goalie: int | None,
                  memo: dict | None = None) -> None:
@@ -50,55 +56,109 @@ class FieldPlayerDecisionMaker:
         self.skills = skills
         self.goalie = goalie
         self.memo = memo  # team-wide facts shared by teammates who believe the same
-        self.ball_player: int | None = None
+        self.ball_players: dict[int, int] = {}  # agent index -> the ball player it chose
 
     def reset(self) -> None:
-        self.ball_player = None
+        self.ball_players.clear()
 
     def decide(self, wm: WorldModel, positioning: PositioningDecision) -> ControlRequest:
-        if wm.fallen:
-            return ControlRequest(behaviour="fallen")
+        """One agent's request (``plan_all`` with n = 1, its hold resolved)."""
+        return resolve_holds([wm], self.plan_all([wm], [positioning]), self.skills)[0]
+
+    def plan_all(self, wms: Sequence[WorldModel],
+                 positionings: Sequence[PositioningDecision]) -> list[ControlRequest | Hold]:
+        """Each agent's request, or the ``Hold`` it decided on (resolved with the team's,
+        ``resolve_holds``). The agents in open play choose their ball player, supporter and
+        pulled position in one array pass."""
+        plans: list[ControlRequest | Hold | None] = [None] * len(wms)
+        open_play = []
+        for i, (wm, positioning) in enumerate(zip(wms, positionings, strict=True)):
+            if wm.fallen:
+                plans[i] = ControlRequest(behaviour="fallen")
+            elif situation(wm.play_mode) is Situation.PLAY_ON:
+                open_play.append(i)
+            else:
+                plans[i] = self._set_piece(wm, positioning)
+        if open_play:
+            self._open_play([wms[i] for i in open_play], [positionings[i] for i in open_play],
+                            open_play, plans)
+        return plans  # type: ignore[return-value]
+
+    def _set_piece(self, wm: WorldModel,
+                   positioning: PositioningDecision) -> ControlRequest | Hold:
         now = situation(wm.play_mode)
         if now is Situation.BEAM:
-            self.ball_player = None
+            self.ball_players.pop(wm.me, None)
             return self.beam(wm, positioning)
         if now is Situation.OVER:
             return ControlRequest(behaviour="game_over")
         if now in (Situation.THEIR_SET_PLAY, Situation.THEIR_KICKOFF):
-            self.ball_player = None
+            self.ball_players.pop(wm.me, None)
             return self.keep_away(wm, positioning, kickoff=now is Situation.THEIR_KICKOFF)
-        if now in (Situation.OUR_SET_PLAY, Situation.OUR_KICKOFF):
-            taker = set_play_taker(wm, wm.play_mode, self.goalie)
-            self.ball_player = taker
-            if taker == wm.me:
-                return take_set_play(wm, self.skills, self.config.pass_max_m,
-                                     self.config.pass_lane_m)
-            return hold_position(wm, positioning.target, self.skills)
-        self.ball_player = self.choose_ball_player(wm)
-        if self.ball_player == wm.me:
-            return self.play_ball(wm)
-        if self.config.cover_m > 0 and self.supporter(wm) == wm.me:
-            return self.cover(wm)
-        return hold_position(wm, self.pulled(wm, positioning.target), self.skills)
+        taker = set_play_taker(wm, wm.play_mode, self.goalie)  # ours: a kick-off or set play
+        self.ball_players[wm.me] = taker
+        if taker == wm.me:
+            return take_set_play(wm, self.skills, self.config.pass_max_m,
+                                 self.config.pass_lane_m)
+        return Hold(positioning.target)
+
+    def _open_play(self, wms: Sequence[WorldModel], positionings: Sequence[PositioningDecision],
+                   slots: Sequence[int], plans: list) -> None:
+        """Ball player, supporter and pulled position of every agent of ``wms`` (in open
+        play) as arrays over agents; fills ``plans[slots[i]]``."""
+        c = self.config
+        rows = np.arange(len(wms))
+        chosen = self.choose_ball_players(wms)
+        for wm, k in zip(wms, chosen.tolist(), strict=True):
+            self.ball_players[wm.me] = k
+        me = np.array([wm.me for wm in wms])
+        others = chosen != me
+        supporting = np.zeros(len(wms), dtype=bool)
+        if c.cover_m > 0 and others.any():
+            d = shared_rows(self.memo, "ball_reach", [wms[i] for i in rows[others].tolist()],
+                            self._ball_reach)
+            if self.goalie is not None:
+                d[:, self.goalie] = np.inf
+            d[np.arange(len(d)), chosen[others]] = np.inf
+            k = d.argmin(axis=1)
+            found = np.isfinite(d[np.arange(len(d)), k])
+            supporting[others] = found & (k == me[others])
+        holding = others & ~supporting
+        kept = rows[holding].tolist()
+        held = iter(self.pulled_all([wms[i] for i in kept],
+                                    np.array([p.target for p in positionings])[holding]))
+        for i, wm in enumerate(wms):
+            if not others[i]:
+                plans[slots[i]] = self.play_ball(wm)
+            elif supporting[i]:
+                plans[slots[i]] = self.cover(wm)
+            else:
+                plans[slots[i]] = Hold(next(held))
 
     def pulled(self, wm: WorldModel, target: np.ndarray) -> np.ndarray:
-        """The formation position moved ``ball_pull`` of the way towards where the ball will
-        stop: the team closes on the ball, so it wins the races for it."""
+        """One agent's ``pulled_all``."""
+        return self.pulled_all([wm], np.asarray(target, dtype=np.float64)[None])[0]
+
+    def pulled_all(self, wms: Sequence[WorldModel], targets: np.ndarray) -> np.ndarray:
+        """(n, 2) each formation position ``targets[i]`` moved ``ball_pull`` of the way
+        towards where agent ``i`` believes the ball will stop: the team closes on the ball,
+        so it wins the races for it."""
         pull = self.config.ball_pull
-        if pull <= 0:
-            return target
-        return target + pull * (wm.ball_rest() - target)
+        if pull <= 0 or not len(targets):
+            return targets
+        rests = np.array([wm.ball_rest() for wm in wms])
+        return targets + pull * (rests - targets)
 
     # -- pieces ----------------------------------------------------------------------------
-    def beam(self, wm: WorldModel, positioning: PositioningDecision) -> ControlRequest:
+    def beam(self, wm: WorldModel, positioning: PositioningDecision) -> ControlRequest | Hold:
         """Beam to the kick-off position once (again only if moved away from it)."""
         target = positioning.target
         if wm.distance(target) > 0.5:
             return beam_to((float(target[0]), float(target[1]), 0.0))
-        return hold_position(wm, target, self.skills, behaviour="kickoff_position")
+        return Hold(target, "kickoff_position")
 
     def keep_away(self, wm: WorldModel, positioning: PositioningDecision,
-                  kickoff: bool) -> ControlRequest:
+                  kickoff: bool) -> ControlRequest | Hold:
         """Hold the position, kept ``set_play_clearance_m`` from the ball, walking round the
         circle rather than through it."""
         radius = self.config.set_play_clearance_m
@@ -106,20 +166,20 @@ class FieldPlayerDecisionMaker:
         waypoint = detour(wm.position, target, wm.ball, radius)
         if wm.distance(wm.ball) < radius:  # inside already: straight out first
             waypoint = keep_distance(wm.position, wm, radius + 0.3, kickoff)
-        request = go_to(wm, waypoint, self.skills, face=wm.ball, behaviour="keep_distance")
         if waypoint is target and wm.distance(target) < self.skills.navigation.arrive_m * 2:
-            return hold_position(wm, target, self.skills, behaviour="keep_distance")
-        return request
+            return Hold(target, "keep_distance")
+        return go_to(wm, waypoint, self.skills, face=wm.ball, behaviour="keep_distance")
 
-    def choose_ball_player(self, wm: WorldModel) -> int:
-        """The upright teammate who can be at the ball first (the goalie only if nobody else
-        is upright); the previous ball player keeps it unless beaten by the hysteresis margin."""
-        d = shared(self.memo, "field_reach", wm, lambda: self._field_reach(wm))
-        prev = self.ball_player
-        if prev is not None and math.isfinite(d[prev]):
-            d = d.copy()
-            d[prev] -= self.config.ball_player_hysteresis_m
-        return int(np.argmin(d))
+    def choose_ball_players(self, wms: Sequence[WorldModel]) -> np.ndarray:
+        """(n,) for each agent, the upright teammate who can be at the ball first (the goalie
+        only if nobody else is upright); the agent's previous ball player keeps it unless
+        beaten by the hysteresis margin. One pass over (agents x teammates)."""
+        d = shared_rows(self.memo, "field_reach", wms, self._field_reach)
+        prev = np.array([self.ball_players.get(wm.me, -1) for wm in wms])
+        rows = np.flatnonzero(prev >= 0)
+        rows = rows[np.isfinite(d[rows, prev[rows]])]
+        d[rows, prev[rows]] -= self.config.ball_player_hysteresis_m
+        return d.argmin(axis=1)
 
     def _field_reach(self, wm: WorldModel) -> np.ndarray:
         d = self.ball_reach(wm)
@@ -149,28 +209,14 @@ class FieldPlayerDecisionMaker:
         return shared(self.memo, "intercepts", wm,
                       lambda: wm.intercepts(wm.teammates, self.skills.run_speed))
 
-    def supporter(self, wm: WorldModel) -> int | None:
-        """The upright field player closest to the ball after the ball player (None if
-        there is none)."""
-        return shared(self.memo, ("supporter", self.ball_player), wm,
-                      lambda: self._supporter(wm))
-
-    def _supporter(self, wm: WorldModel) -> int | None:
-        d = self.ball_reach(wm)
-        for k in (self.goalie, self.ball_player):
-            if k is not None:
-                d[k] = np.inf
-        k = int(np.argmin(d))
-        return k if np.isfinite(d[k]) else None
-
-    def cover(self, wm: WorldModel) -> ControlRequest:
+    def cover(self, wm: WorldModel) -> Hold:
         """Stand ``cover_m`` goal-side of the ball, on its line to our goal centre: blocks the
         shot and wins the ball if the challenge is lost."""
         goal = wm.own_goal
         to_goal = goal - wm.ball
         dist = math.hypot(to_goal[0], to_goal[1])
         target = wm.ball + to_goal * (min(self.config.cover_m, dist * 0.5) / max(dist, 1e-6))
-        return hold_position(wm, target, self.skills, behaviour="cover")
+        return Hold(target, "cover")
 
     def play_ball(self, wm: WorldModel) -> ControlRequest:
         """Run to meet a rolling ball; else choose the kick that wins the race to where the

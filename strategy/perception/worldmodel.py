@@ -9,7 +9,7 @@ another agent's observation: a team's agents share no state.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Hashable, Mapping
+from collections.abc import Callable, Hashable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, TypeVar
 
@@ -284,3 +284,23 @@ def shared(memo: dict | None, name: Hashable, wm: WorldModel, compute: Callable[
             hit = facts[name] = compute()
         return hit
     return memoized(memo, (name, wm.belief_key), compute)
+
+
+def shared_rows(memo: dict | None, name: Hashable, wms: Sequence[WorldModel],
+                compute: Callable[[WorldModel], NDArray[Any]]) -> NDArray[Any]:
+    """(n, ...) row i = ``shared(memo, name, wms[i], lambda: compute(wms[i]))``, looked up
+    once per distinct belief among ``wms`` (a team's agents mostly believe the same). A new
+    array: the caller may modify it."""
+    rows: list[NDArray[Any]] = []
+    index: list[int] = []
+    seen: dict[bytes, int] = {}
+    for wm in wms:
+        k = seen.get(wm.belief_key, -1) if wm.belief_key else -1
+        if k < 0:
+            k = len(rows)
+            if wm.belief_key:
+                seen[wm.belief_key] = k
+            rows.append(shared(memo, name, wm, lambda wm=wm: compute(wm)))
+        index.append(k)
+    table = np.array(rows)
+    return table if len(rows) == len(index) else table[index]

@@ -27,7 +27,7 @@ from strategy.positioning.formation.model import Formation, FormationError
 from strategy.positioning.marking import MarkingParams, apply_marking
 from strategy.positioning.roles.assignment import FALLEN_PENALTY_M, assign_roles
 from strategy.positioning.roles.message import decode_role_vote, encode_role_vote
-from strategy.positioning.roles.voting import DEFAULT_MAX_AGE_CYCLES, RoleVoter
+from strategy.positioning.roles.voting import DEFAULT_MAX_AGE_CYCLES, RoleVoter, RoleVoters
 from teamenv.field import FieldSpec, field_preset
 
 
@@ -70,6 +70,9 @@ class PositioningAgent:
             assignment) by its exact inputs (``strategy.memo``); agents of one process may
             share one, so identical world views are computed once (a cache of a pure
             function: no agent sees another's view). None: no caching.
+        voter: this agent's ballot box, a row of the team's ``RoleVoters`` (so that
+            ``step_all`` counts the team's votes in one pass); None: one of its own with
+            ``max_age_cycles``.
     """
 
     def __init__(
@@ -84,6 +87,7 @@ class PositioningAgent:
         fallen_penalty_m: float = FALLEN_PENALTY_M,
         say_every: int = 1,
         memo: dict | None = None,
+        voter: RoleVoter | None = None,
     ) -> None:
         self.n = formation.n_players
         if not 0 <= me < self.n:
@@ -98,7 +102,10 @@ class PositioningAgent:
         self.fallen_penalty_m = float(fallen_penalty_m)
         self.say_every = int(say_every)
         self.memo = memo
-        self.voter = RoleVoter(self.n, self.me, max_age_cycles)
+        if voter is not None and (voter.n, voter.me) != (self.n, self.me):
+            raise FormationError(f"PositioningAgent {self.me}: its voter is player "
+                                 f"{voter.me} of {voter.n}")
+        self.voter = voter if voter is not None else RoleVoter(self.n, self.me, max_age_cycles)
         self.cycle = 0
 
     def reset(self) -> None:
@@ -137,6 +144,47 @@ class PositioningAgent:
                 shared (``state`` mode), where a vector heard before the change is only stale;
                 with noisy beliefs keep it False, or the vote never gathers.
         """
+        if votes is None:
+            votes = self.heard_votes(heard)
+        return PositioningAgent.step_all([self], [view], [formation], [view_key], [votes],
+                                         [own_ballot], vote=vote,
+                                         since_own_change=since_own_change)[0]
+
+    @staticmethod
+    def step_all(agents: Sequence[PositioningAgent], views: Sequence[WorldView],
+                 formations: Sequence[Formation | None], view_keys: Sequence[bytes | None],
+                 votes: Sequence[Sequence[tuple[int, NDArray[np.intp]]]],
+                 own_ballots: Sequence[NDArray[np.intp] | None], *, vote: bool = True,
+                 since_own_change: bool = False) -> list[PositioningDecision]:
+        """``step`` of every agent ``agents[i]`` on its own ``views[i]``, formation, key,
+        heard ``votes[i]`` and ballot (see ``step``); agents whose voters are rows of one
+        ``RoleVoters`` count their votes in one pass."""
+        proposed = [agent._propose(view, formation, key, heard)
+                    for agent, view, formation, key, heard
+                    in zip(agents, views, formations, view_keys, votes, strict=True)]
+        ballots = [own.position_of if ballot is None else ballot
+                   for (_, _, own), ballot in zip(proposed, own_ballots, strict=True)]
+        if vote:
+            teams: list = [None] * len(agents)
+            boxes: dict[int, tuple[RoleVoters, list[int]]] = {}
+            for i, agent in enumerate(agents):
+                boxes.setdefault(id(agent.voter.boxes), (agent.voter.boxes, []))[1].append(i)
+            for box, members in boxes.values():
+                counted = box.vote([agents[i].voter.row for i in members],
+                                   [ballots[i] for i in members],
+                                   [proposed[i][0] for i in members], since_own_change)
+                for i, team in zip(members, counted, strict=True):
+                    teams[i] = team
+        else:
+            teams = [own.position_of for _, _, own in proposed]
+        return [agent._decided(cycle, positions, own, team)
+                for agent, (cycle, positions, own), team in zip(agents, proposed, teams,
+                                                               strict=True)]
+
+    def _propose(self, view: WorldView, formation: Formation | None, view_key: bytes | None,
+                 votes: Sequence[tuple[int, NDArray[np.intp]]]):
+        """Advance a cycle, hear ``votes``, and look up (or compute) the positions and this
+        agent's own role vector for ``view``: (cycle, positions, own assignment)."""
         f = self.formation if formation is None else formation
         if f.n_players != self.n:
             raise FormationError(
@@ -145,8 +193,6 @@ class PositioningAgent:
             )
         cycle = self.cycle
         self.cycle += 1
-        if votes is None:
-            votes = self.heard_votes(heard)
         for sender, vector in votes:
             if 0 <= sender < self.n:
                 self.voter.hear(sender, vector, cycle, validate=False)  # decoder checked it
@@ -157,9 +203,10 @@ class PositioningAgent:
                       view.players.tobytes(), view.present.tobytes(), view.fallen.tobytes(),
                       view.opponents.tobytes(), view.opponents_present.tobytes())
         positions, own = memoized(self.memo, key, lambda: self._assign(f, view))
-        ballot = own.position_of if own_ballot is None else own_ballot
-        team = self.voter.vote(ballot, cycle, validate=False,
-                               since_own_change=since_own_change) if vote else own.position_of
+        return cycle, positions, own
+
+    def _decided(self, cycle: int, positions: NDArray[np.float64], own: Any,
+                 team: NDArray[np.intp]) -> PositioningDecision:
         k = int(team[self.me])
         say = ""
         if (cycle + self.me) % self.say_every == 0:

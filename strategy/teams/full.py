@@ -16,8 +16,9 @@ from strategy.behaviours.skills import Skills
 from strategy.geometry import BallRoll
 from strategy.perception.perceiver import perceiver_for
 from strategy.positioning.formation.sized import team_formation
+from strategy.positioning.roles.voting import RoleVoters
 from strategy.teams.full_config import FullTeamConfig
-from strategy.teams.player import Player
+from strategy.teams.player import Player, decide_team, decision_makers
 from strategy.teams.talk import talk_for
 from teamenv.errors import ConfigError
 from teamenv.teams import TeamContext
@@ -60,9 +61,15 @@ class FullTeam:
                                        localization=self.config.localization_params())
         self.talk = talk_for(self.config, self.perceiver)
         memo: dict = {}  # pure results by exact inputs, shared (see strategy.memo)
+        # one field-player and one goalie decision maker for the team: all its agents
+        # decide in one pass (decide_team), each from its own belief
+        makers = decision_makers(self.config, self.skills, formations["defend"].goalie_index,
+                                 memo)
+        # and one set of ballot boxes: the team's votes counted in one pass
+        voters = RoleVoters(context.team_size, range(len(context.agents)))
         self.players = {
             agent: Player(k, agent, context.side, self.config, formations, self.skills,
-                          context.channel, memo, self.talk)
+                          context.channel, memo, self.talk, makers, voters)
             for k, agent in enumerate(context.agents)
         }
 
@@ -87,10 +94,10 @@ class FullTeam:
         return out
 
     def act(self, observations: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[str, Any]]:
-        requests = {}
-        for agent, wm in self.perceiver.update(observations).items():
-            player = self.players[agent]
-            request = requests[agent] = player.decide(wm)
+        wms = self.perceiver.update(observations)
+        players = [self.players[agent] for agent in wms]
+        requests = dict(zip(wms, decide_team(players, list(wms.values())), strict=True))
+        for player, request in zip(players, requests.values(), strict=True):
             if request.beam is not None:
                 self.perceiver.beamed(player.me, request.beam)
         # the team's walk commands in one pass, clipped in one pass

@@ -132,6 +132,99 @@ def _tally_slow(votes: NDArray[np.int64]) -> NDArray[np.intp]:
     return result
 
 
+class RoleVoters:
+    """The ballot boxes of several agents (rows), as arrays over agents: each row is one
+    agent's own box (``RoleVoter``) — the latest role vector it heard from each teammate,
+    with its age — so a team counts every agent's vote in one pass (``vote``), each row
+    from what that agent alone heard and said.
+
+    Args:
+        n_players: team size N (vectors are permutations of 0..N-1).
+        agents: the player index (uniform number - 1) of each row.
+        max_age_cycles: vectors heard more than this many cycles ago are not counted.
+    """
+
+    def __init__(self, n_players: int, agents: Sequence[int],
+                 max_age_cycles: int = DEFAULT_MAX_AGE_CYCLES) -> None:
+        if n_players < 1:
+            raise VotingError(f"RoleVoter: n_players must be >= 1, got {n_players!r}")
+        for me in agents:
+            if not 0 <= me < n_players:
+                raise VotingError(f"RoleVoter: me={me!r} must be in 0..{n_players - 1}")
+        if max_age_cycles < 0:
+            raise VotingError(f"RoleVoter: max_age_cycles must be >= 0, got {max_age_cycles!r}")
+        self.n = int(n_players)
+        self.me = np.array(agents, dtype=np.intp)
+        self.max_age_cycles = int(max_age_cycles)
+        rows = len(self.me)
+        self._vectors = np.zeros((rows, self.n, self.n), dtype=np.intp)
+        self._cycle = np.full((rows, self.n), _NEVER, dtype=np.int64)
+        # the ballots each row counted last (uncounted rows -1; -2: none yet) and their result
+        self._last_ballots = np.full((rows, self.n, self.n), -2, dtype=np.intp)
+        self._last_result = np.tile(np.arange(self.n, dtype=np.intp), (rows, 1))
+        self._own_changed = np.full(rows, _NEVER, dtype=np.int64)
+
+    def voter(self, row: int) -> RoleVoter:
+        """The ``RoleVoter`` of agent row ``row`` (a view of this row)."""
+        return RoleVoter(self.n, int(self.me[row]), self.max_age_cycles, boxes=self, row=row)
+
+    def reset(self, rows: Sequence[int] | None = None) -> None:
+        """Forget everything the agents of ``rows`` (None: all) heard (new episode)."""
+        picked = slice(None) if rows is None else list(rows)
+        self._cycle[picked] = _NEVER
+        self._own_changed[picked] = _NEVER
+        self._last_ballots[picked] = -2
+
+    def hear(self, row: int, speaker: int, vector: ArrayLike, cycle: int,
+             validate: bool = True) -> None:
+        """Row ``row``'s agent heard ``speaker``'s role vector at ``cycle`` (``RoleVoter.hear``)."""
+        if not 0 <= speaker < self.n:
+            raise VotingError(f"RoleVoter.hear: speaker={speaker!r} must be in 0..{self.n - 1}")
+        if validate and not is_permutation(vector, self.n):
+            raise VotingError(
+                f"RoleVoter.hear: vector from speaker {speaker} = {np.asarray(vector).tolist()} "
+                f"is not a permutation of 0..{self.n - 1}"
+            )
+        if speaker == self.me[row]:
+            return
+        self._vectors[row, speaker] = vector
+        self._cycle[row, speaker] = cycle
+
+    def fresh_speakers(self, row: int, cycle: int) -> NDArray[np.intp]:
+        """``RoleVoter.fresh_speakers`` of row ``row``."""
+        ok = cycle - self._cycle[row] <= self.max_age_cycles
+        ok[self.me[row]] = False
+        return np.flatnonzero(ok)
+
+    def vote(self, rows: Sequence[int], own_vectors: ArrayLike, cycles: ArrayLike,
+             since_own_change: bool = False) -> NDArray[np.intp]:
+        """(R, N) ``RoleVoter.vote`` of each agent row ``rows[r]`` with its own vector
+        ``own_vectors[r]`` at ``cycles[r]``: the bookkeeping of all rows in one pass, the
+        tally per row (only when its counted ballots changed). Vectors are not validated."""
+        picked = np.asarray(rows, dtype=np.intp)
+        owns = np.asarray(own_vectors)
+        now = np.asarray(cycles, dtype=np.int64)
+        me = self.me[picked]
+        changed = (self._vectors[picked, me] != owns).any(axis=1)
+        self._own_changed[picked[changed]] = now[changed]
+        self._vectors[picked, me] = owns
+        self._cycle[picked, me] = now
+        heard = self._cycle[picked]
+        counted = now[:, None] - heard <= self.max_age_cycles
+        if since_own_change:
+            counted &= heard > self._own_changed[picked][:, None]
+            counted[np.arange(len(picked)), me] = True
+        # the same ballots as last cycle: the same result; else tally (rarely: per row)
+        ballots = np.where(counted[:, :, None], self._vectors[picked], -1)
+        new = (ballots != self._last_ballots[picked]).any(axis=(1, 2))
+        for r in np.flatnonzero(new).tolist():
+            row = int(picked[r])
+            self._last_ballots[row] = ballots[r]
+            self._last_result[row] = _tally(vote_matrix(self._vectors[row][counted[r]],
+                                                        self.n))
+        return self._last_result[picked]
+
+
 class RoleVoter:
     """One agent's ballot box: the latest role vector from each teammate, with its age.
 
@@ -139,29 +232,20 @@ class RoleVoter:
         n_players: team size N (vectors are permutations of 0..N-1).
         me: this agent's player index (uniform number - 1).
         max_age_cycles: vectors heard more than this many cycles ago are not counted.
+        boxes, row: the team's ``RoleVoters`` and this agent's row there (its votes are then
+            counted with the team's in one pass); None: a box of its own.
     """
 
-    def __init__(self, n_players: int, me: int, max_age_cycles: int = DEFAULT_MAX_AGE_CYCLES):
-        if n_players < 1:
-            raise VotingError(f"RoleVoter: n_players must be >= 1, got {n_players!r}")
-        if not 0 <= me < n_players:
-            raise VotingError(f"RoleVoter: me={me!r} must be in 0..{n_players - 1}")
-        if max_age_cycles < 0:
-            raise VotingError(f"RoleVoter: max_age_cycles must be >= 0, got {max_age_cycles!r}")
-        self.n = int(n_players)
-        self.me = int(me)
-        self.max_age_cycles = int(max_age_cycles)
-        self._vectors = np.zeros((self.n, self.n), dtype=np.intp)
-        self._cycle = np.full(self.n, _NEVER, dtype=np.int64)
-        self._last_key = b""
-        self._last_result = np.arange(self.n, dtype=np.intp)
-        self._own_changed = _NEVER
+    def __init__(self, n_players: int, me: int, max_age_cycles: int = DEFAULT_MAX_AGE_CYCLES,
+                 *, boxes: RoleVoters | None = None, row: int = 0):
+        if boxes is None:
+            boxes, row = RoleVoters(n_players, [me], max_age_cycles), 0
+        self.boxes, self.row = boxes, row
+        self.n, self.me, self.max_age_cycles = boxes.n, int(me), boxes.max_age_cycles
 
     def reset(self) -> None:
         """Forget everything heard (new episode)."""
-        self._cycle[:] = _NEVER
-        self._last_key = b""
-        self._own_changed = _NEVER
+        self.boxes.reset([self.row])
 
     def hear(self, speaker: int, vector: ArrayLike, cycle: int, validate: bool = True) -> None:
         """Record ``speaker``'s role vector, heard at ``cycle`` (it replaces an older one).
@@ -170,27 +254,16 @@ class RoleVoter:
         Raises ``VotingError`` if ``speaker`` is out of range or ``vector`` is not a permutation
         (``validate=False`` skips the permutation check, for vectors a decoder already checked).
         """
-        if not 0 <= speaker < self.n:
-            raise VotingError(f"RoleVoter.hear: speaker={speaker!r} must be in 0..{self.n - 1}")
-        if validate and not is_permutation(vector, self.n):
-            raise VotingError(
-                f"RoleVoter.hear: vector from speaker {speaker} = {np.asarray(vector).tolist()} "
-                f"is not a permutation of 0..{self.n - 1}"
-            )
-        if speaker == self.me:
-            return
-        self._vectors[speaker] = vector
-        self._cycle[speaker] = cycle
+        self.boxes.hear(self.row, speaker, vector, cycle, validate)
 
     def fresh_speakers(self, cycle: int) -> NDArray[np.intp]:
         """Teammates whose latest vector is within the age limit at ``cycle`` (self excluded)."""
-        ok = cycle - self._cycle <= self.max_age_cycles
-        ok[self.me] = False
-        return np.flatnonzero(ok)
+        return self.boxes.fresh_speakers(self.row, cycle)
 
     def vote(self, own_vector: ArrayLike, cycle: int, validate: bool = True,
              since_own_change: bool = False) -> NDArray[np.intp]:
-        """Count ``own_vector`` and every fresh heard vector; return the team's assignment.
+        """Count ``own_vector`` and every fresh heard vector; return the team's assignment
+        (``RoleVoters.vote`` with one row).
 
         ``validate=False`` skips checking that ``own_vector`` is a permutation (for vectors
         ``assign_roles`` just produced).
@@ -207,17 +280,4 @@ class RoleVoter:
             raise VotingError(
                 f"RoleVoter.vote: own vector {own.tolist()} is not a permutation of 0..{self.n - 1}"
             )
-        if not np.array_equal(self._vectors[self.me], own):
-            self._own_changed = cycle
-        self._vectors[self.me] = own
-        self._cycle[self.me] = cycle
-        counted = cycle - self._cycle <= self.max_age_cycles
-        if since_own_change:
-            counted &= self._cycle > self._own_changed
-            counted[self.me] = True
-        ballots = self._vectors[counted]
-        key = ballots.tobytes()  # the same ballots as last cycle: the same result
-        if key != self._last_key:
-            self._last_key = key
-            self._last_result = _tally(vote_matrix(ballots, self.n))
-        return self._last_result.copy()
+        return self.boxes.vote([self.row], own[None], [cycle], since_own_change)[0]

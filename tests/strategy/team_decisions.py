@@ -1,0 +1,94 @@
+"""Recorded decisions of the ``full`` team, to show that a rewrite of its decision layer
+decides the same, value for value.
+
+``python -m tests.strategy.team_decisions --write`` plays a few short seeded runs and stores,
+for every cycle, a digest of each ``full`` team's exact actions (walk, kick, beam, say bytes)
+and of the behaviour each agent chose (``tests/data/full_team_decisions.json``; recorded with
+the per-agent decision code before the array rewrite). ``test_team_decisions.py`` replays the
+same runs and compares cycle by cycle, so a difference names its run, cycle and side.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+import teamenv
+from teamenv.config import RulesConfig
+
+FIXTURE = Path(__file__).parents[1] / "data" / "full_team_decisions.json"
+
+RUNS: dict[str, dict[str, Any]] = {
+    # kick-off beams and open play, both sides full
+    "full-full-simspark11-state": dict(left="full", right="full", field="simspark",
+                                       team_size=11, half_time_s=60.0, seed=5, cycles=400),
+    # a goal, kick-offs after it and set plays (seed 33 scores within its first half)
+    "full-chaser-simspark5-state": dict(left="full", right="chaser", field="simspark",
+                                        team_size=5, half_time_s=30.0, seed=33, cycles=3010),
+    # vision beliefs: every agent believes something different
+    "full-chaser-mj7v7-vision": dict(left="full", right="chaser", field="mj7v7", team_size=7,
+                                     half_time_s=5.0, seed=14, cycles=150,
+                                     observation_mode="vision", vision="mj"),
+}
+
+
+def _action_bytes(action: dict[str, Any]) -> bytes:
+    out = []
+    for key in sorted(action):
+        value = action[key]
+        if isinstance(value, str):
+            out.append(f"{key}={value!r}".encode())
+        else:
+            array = np.asarray(value)
+            out.append(f"{key}:{array.dtype.str}{array.shape}".encode())
+            out.append(np.ascontiguousarray(array).tobytes())
+    return b"|".join(out)
+
+
+def cycle_digests(run: dict[str, Any]) -> list[str]:
+    """Per cycle, one digest of every ``full`` team's actions and chosen behaviours."""
+    spec = dict(run)
+    cycles, seed, half_time_s = spec.pop("cycles"), spec.pop("seed"), spec.pop("half_time_s")
+    env = teamenv.parallel_env(rules=RulesConfig(half_time_s=half_time_s), **spec)
+    env.reset(seed=seed)
+    teams = {side: team for side, team in sorted(env.teams.items())
+             if type(team).__name__ == "FullTeam"}
+    seen: dict[str, dict] = {}
+    for side, team in teams.items():
+        act = team.act
+
+        def recording(observations, act=act, side=side):
+            seen[side] = actions = act(observations)
+            return actions
+        team.act = recording
+    digests = []
+    for _ in range(cycles):
+        if env.episode_over:
+            break
+        seen.clear()
+        env.step({})
+        h = hashlib.sha256()
+        for side, team in teams.items():
+            for agent, action in sorted(seen.get(side, {}).items()):
+                h.update(agent.encode() + _action_bytes(action))
+            for agent, player in sorted(team.players.items()):
+                h.update(f"{agent}:{player.last_request.behaviour};".encode())
+        digests.append(h.hexdigest()[:16])
+    env.close()
+    return digests
+
+
+def record() -> dict[str, list[str]]:
+    return {name: cycle_digests(run) for name, run in RUNS.items()}
+
+
+if __name__ == "__main__":
+    recorded = record()
+    if "--write" in sys.argv:
+        FIXTURE.write_text(json.dumps(recorded, indent=0) + "\n")
+    print({name: len(d) for name, d in recorded.items()})
