@@ -14,6 +14,8 @@ Sources, each optional (a parameter without a source keeps its value and provena
 - **kicks**: kick-trial files of ``benchmarks/league_kick_trials.py --out`` (rows with the ball's
   ``travel`` and the direction ``error_deg``): distance mean / s.d. / min / max, and the
   accuracy as the share within the profile's ``kick_accuracy_half_angle``;
+- **kick reach** (``--kick-reach``): the far corner of the league kick's start spot (the
+  ball's farthest place from which the kick starts without backing away first);
 - **get-up**: a trial file of ``benchmarks/league_getup_trials.py --json``: with successes, the
   mean time to up; with none, the referee's rule stays (a robot that lay 15 s is stood up);
 - **falls**: league replays (``teamenv league-tournament --replay-dir``, the study's
@@ -139,6 +141,22 @@ def kick_parameters(paths: list[Path], half_angle_rad: float) -> dict[str, dict]
     }
 
 
+def kick_reach_parameter() -> dict[str, dict]:
+    """The league client's kick reach: the farthest ball (from the torso) from which its kick
+    starts without stepping back first, the far corner of the kick spot (``teamenv.league.kick``:
+    ``spot_x`` and ``foot_y`` of ``LEAGUE_KICK`` plus the start tolerances). A team that asks
+    to kick only nearer walks into the ball and the approach has to back away from it."""
+    from teamenv.league.kick import LEAGUE_KICK, SPOT_TOLERANCE_X, SPOT_TOLERANCE_Y
+
+    ahead = LEAGUE_KICK.spot_x + SPOT_TOLERANCE_X[1]
+    beside = LEAGUE_KICK.foot_y + SPOT_TOLERANCE_Y
+    return {"kick_reach": {
+        "value": round(math.hypot(ahead, beside), 2), "unit": "m", "kind": "derived",
+        "source": f"{SCRIPT} --kick-reach: the far corner of the league kick's start spot "
+                  f"(teamenv.league.kick: spot_x {LEAGUE_KICK.spot_x} + {SPOT_TOLERANCE_X[1]} "
+                  f"ahead, foot_y {LEAGUE_KICK.foot_y} + {SPOT_TOLERANCE_Y} beside)"}}
+
+
 def getup_parameters(path: Path) -> dict[str, dict]:
     rows = json.loads(Path(path).read_text())
     ok = [r for r in rows if r.get("success") and r.get("time_to_up") is not None]
@@ -203,6 +221,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--walk-from", default=None,
                     help="use this walk measurement (a --walk-json file) instead of measuring")
     ap.add_argument("--kicks", nargs="*", default=[], help="league_kick_trials.py --out files")
+    ap.add_argument("--kick-reach", action="store_true",
+                    help="the kick reach from the league kick's start spot")
     ap.add_argument("--getup", default=None, help="league_getup_trials.py --json file")
     ap.add_argument("--replays", default=None, help="a folder of league match replays")
     ap.add_argument("--dry-run", action="store_true", help="print, write nothing")
@@ -220,6 +240,8 @@ def main(argv: list[str] | None = None) -> int:
     if args.kicks:
         half = float(profile["parameters"]["kick_accuracy_half_angle"]["value"])
         params |= kick_parameters([Path(p) for p in args.kicks], half)
+    if args.kick_reach:
+        params |= kick_reach_parameter()
     if args.getup:
         params |= getup_parameters(Path(args.getup))
     if args.replays:
@@ -227,14 +249,22 @@ def main(argv: list[str] | None = None) -> int:
         print("falls:", measurements["falls"])
     updated = update_profile(profile, params, measurements)
     if params:
+        # the description lists everything this script regenerated, in this run or before
+        regenerated = {name for name, entry in updated["parameters"].items()
+                       if str(entry.get("source", "")).startswith(SCRIPT)}
         parts = []
-        if "tracking_vx" in params:
-            parts.append(f"walk curves and envelope of the league's default walker "
-                         f"({measurements['walk']['walker']})")
-        if "kick_distance_mean" in params:
+        if "tracking_vx" in regenerated:
+            from teamenv.league.match import LeagueMatchOptions
+
+            walker = measurements["walk"]["walker"] if "walk" in measurements else \
+                LeagueMatchOptions().walker
+            parts.append(f"walk curves and envelope of the league's default walker ({walker})")
+        if "kick_distance_mean" in regenerated:
             parts.append("kick distance, accuracy and duration from kick trials with a walking "
                          "approach")
-        if "getup_duration" in params:
+        if "kick_reach" in regenerated:
+            parts.append("kick reach from the league kick's start spot")
+        if "getup_duration" in regenerated:
             parts.append("get-up time from get-up trials")
         updated["description"] = (
             "The league's Booster T1 on RCSSServerMJ 0.2.1 as teamenv's league client plays it, "

@@ -82,3 +82,19 @@ def test_too_few_kicks_is_an_error(tmp_path):
     kicks.write_text(json.dumps({"rows": [{"kicked": True, "travel": 5.0, "error_deg": 1.0}]}))
     with pytest.raises(SystemExit, match="need >= 2"):
         cal.kick_parameters([kicks], math.radians(10))
+
+
+@pytest.mark.humanoid
+def test_the_kick_reach_is_the_league_kicks_start_spot(monkeypatch):
+    pytest.importorskip("mujoco")
+    from teamenv.league import kick
+
+    reach = cal.kick_reach_parameter()["kick_reach"]
+    assert reach["kind"] == "derived" and "spot_x" in reach["source"]
+    # the shipped t1_league profile carries it: a team asks to kick from where the kick starts
+    shipped = json.loads(cal.PROFILE.read_text())["parameters"]["kick_reach"]["value"]
+    assert shipped == reach["value"]
+    assert shipped >= kick.LEAGUE_KICK.spot_x            # not nearer than the kick spot
+    # one source: the spot moves, the reach moves with it
+    monkeypatch.setattr(kick, "LEAGUE_KICK", kick.LEAGUE_KICK.with_(spot_x=0.6))
+    assert cal.kick_reach_parameter()["kick_reach"]["value"] > reach["value"] + 0.1

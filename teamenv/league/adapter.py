@@ -129,6 +129,10 @@ KICK_LATCH_M = 1.0
 #: a sighting older than this (s) does not start a kick (the ball may have moved); the ball
 #: at the kick spot is below the level camera's view, so the last sighting is from ~0.55 m
 KICK_SIGHTING_MAX_AGE_S = 3.0
+#: with an older sighting the approach steps back (m/s, body frame) until the ball is in view
+#: again: at the kick spot the ball lies below the level camera's view, and a team that keeps
+#: asking to kick would otherwise keep the robot there, never starting the kick
+SIGHT_AGAIN_COMMAND = (-0.15, 0.0, 0.0)
 
 
 class RequestEncoder:
@@ -231,6 +235,8 @@ class RequestEncoder:
                 # in its gait (the controller, if it is another walk, hands over here)
                 near = self.kick.shares_walker and math.hypot(*ball) <= KICK_LATCH_M
                 command = approach_command(ball, direction, self.kick.params)
+                if self.ball.age_s > KICK_SIGHTING_MAX_AGE_S:
+                    command = SIGHT_AGAIN_COMMAND
                 if not near:
                     return self._walk(self._ramped(command), perception)
                 if self._walking is not self.kick.walker and not self.handover.ready:

@@ -25,7 +25,7 @@ HANDOVER_SPEED_M_S = 0.3
 #: the torso sways sideways with every step; its mean speed over about one gait cycle is the walk's
 SPEED_WINDOW_S = 0.5
 #: how fast the braking command may change (m/s and rad/s per second)
-BRAKE_M_S2 = 1.5
+BRAKE_M_S2 = 2.5
 BRAKE_TURN_S2 = 3.0
 #: hand over anyway after this long (s) of braking
 HANDOVER_MAX_S = 1.5

@@ -425,3 +425,40 @@ def test_a_walking_robot_brakes_on_its_walk_before_the_kicks_walker_takes_over()
         ball_ahead(0.7)
         cycles += 1
     assert 0 < cycles < HANDOVER_MAX_S / CYCLE_S - 10
+
+
+def test_an_approach_that_lost_sight_of_the_ball_steps_back_until_it_sees_it():
+    from teamenv.league.adapter import (
+        KICK_SIGHTING_MAX_AGE_S,
+        SIGHT_AGAIN_COMMAND,
+        Request,
+        RequestEncoder,
+    )
+    from teamenv.league.controller import WalkerController, torso_pose
+
+    class Recording(WalkerController):
+        def __init__(self):
+            super().__init__()
+            self.commands = []
+
+        def step(self, command, perception, adjust=None):
+            self.commands.append(tuple(command))
+            return super().step(command, perception, adjust)
+
+    p = Perception(**{**_perception().__dict__, "vision": None})   # no sighting this cycle
+    x, y, yaw = torso_pose(p)
+    walker = Recording()
+    enc = RequestEncoder(walker, "agent K_1", get_up=None)
+    # the ball at the kick spot, right foot, last seen just now: the approach walks to the spot
+    ahead, beside = LEAGUE_KICK.spot_x + 0.05, -LEAGUE_KICK.foot_y
+    enc.ball.world = np.array([x + ahead * math.cos(yaw) - beside * math.sin(yaw),
+                               y + ahead * math.sin(yaw) + beside * math.cos(yaw), 0.11])
+    enc.ball.age_s = 0.0
+    enc.encode(Request(kick=(1.0, 0.0)), p)
+    assert walker.commands[-1] != SIGHT_AGAIN_COMMAND and not enc.kicking
+    # the ball lies below the camera's view there: once the sighting is too old to start a
+    # kick, the robot steps back (the team still asking to kick) instead of waiting for ever
+    enc.ball.age_s = KICK_SIGHTING_MAX_AGE_S + 0.1
+    enc.encode(Request(kick=(1.0, 0.0)), p)
+    assert walker.commands[-1] == SIGHT_AGAIN_COMMAND and SIGHT_AGAIN_COMMAND[0] < 0
+    assert not enc.kicking
