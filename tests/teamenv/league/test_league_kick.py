@@ -23,6 +23,7 @@ from teamenv.league.kick import (
     measured_angles,
 )
 from teamenv.league.perception import Perception, parse_perception
+from tests.teamenv.league.recorders import RecordingController, recording_walker
 
 pytestmark = pytest.mark.humanoid
 DATA = Path(__file__).resolve().parents[1] / "league_data"
@@ -184,22 +185,12 @@ def test_the_encoder_plays_a_kick_to_its_end_then_walks_again():
     _local()
     from teamenv.league import effectors
     from teamenv.league.adapter import Request, RequestEncoder
-    from teamenv.league.controller import WalkerController
     from teamenv.league.kick_trial import BALL, LOOK_DOWN, spot_start
     from teamenv.league.local_server import LocalServer
 
-    class Recording(WalkerController):
-        def __init__(self):
-            super().__init__()
-            self.commands = []
-
-        def step(self, command, perception, adjust=None):
-            self.commands.append(tuple(command))
-            return super().step(command, perception, adjust)
-
     server = LocalServer()
     key = ("K", 1)
-    walker = Recording()
+    walker = recording_walker()
     enc = RequestEncoder(walker, "agent K_1", get_up=None)
     assert enc.kick.shares_walker                        # the kick is a step of this gait
     p = server.join(*key)
@@ -369,23 +360,9 @@ def test_a_walking_robot_brakes_on_its_walk_before_the_kicks_walker_takes_over()
     from teamenv.league.controller import CYCLE_S, torso_pose
     from teamenv.league.handover import HANDOVER_MAX_S, HANDOVER_SPEED_M_S
 
-    class Other:   # the reference network, recording its commands
-        def __init__(self):
-            self.commands = []
-
-        def reset(self):
-            pass
-
-        def stand(self, perception):
-            return "(stand)"
-
-        def step(self, command, perception):
-            self.commands.append(tuple(command))
-            return "(other)"
-
     base = Perception(**{**_perception().__dict__, "vision": None})
     x, y, yaw = torso_pose(base)
-    other = Other()
+    other = RecordingController("(other)")   # the reference network, recording its commands
     enc = RequestEncoder(other, "agent K_1", get_up=None)
     place = [x, y]
 
@@ -434,20 +411,11 @@ def test_an_approach_that_lost_sight_of_the_ball_steps_back_until_it_sees_it():
         Request,
         RequestEncoder,
     )
-    from teamenv.league.controller import WalkerController, torso_pose
-
-    class Recording(WalkerController):
-        def __init__(self):
-            super().__init__()
-            self.commands = []
-
-        def step(self, command, perception, adjust=None):
-            self.commands.append(tuple(command))
-            return super().step(command, perception, adjust)
+    from teamenv.league.controller import torso_pose
 
     p = Perception(**{**_perception().__dict__, "vision": None})   # no sighting this cycle
     x, y, yaw = torso_pose(p)
-    walker = Recording()
+    walker = recording_walker()
     enc = RequestEncoder(walker, "agent K_1", get_up=None)
     # the ball at the kick spot, right foot, last seen just now: the approach walks to the spot
     ahead, beside = LEAGUE_KICK.spot_x + 0.05, -LEAGUE_KICK.foot_y

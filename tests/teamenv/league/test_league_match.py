@@ -32,6 +32,7 @@ from teamenv.league.perception import parse_perception
 from teamenv.match import Goal, MatchResult
 from teamenv.tournament import ResultStore
 from teamenv.tournament.table import league_table
+from tests.teamenv.league.recorders import RecordingController
 from tests.teamenv.league_teams import ScriptedTeam
 
 DATA = Path(__file__).resolve().parents[1] / "league_data"
@@ -87,25 +88,10 @@ def test_team_context_and_seeds_are_the_envs():
     assert LeagueMatchOptions(team_size=2).match_options().vision == "mj"
 
 
-class _Recorder:
-    def __init__(self):
-        self.commands = []
-
-    def reset(self):
-        pass
-
-    def stand(self, perception):
-        return "(stand)"
-
-    def step(self, command, perception):
-        self.commands.append(tuple(command))
-        return "(walk)"
-
-
 def _side(spec, action, mode="PlayOn"):
     ScriptedTeam.ACTION = action
     side = make_side(spec, "left", 2, seed=0)
-    ctl = _Recorder()
+    ctl = RecordingController()
     side.encoders = {u: RequestEncoder(ctl, f"agent {side.server_name}_{u}")
                      for u in (1, 2)}
     p = parse_perception((DATA / "kick_off.txt").read_text().strip())
