@@ -302,8 +302,9 @@ def test_a_1v1_league_match_on_the_local_server_has_a_kick_of_3m(tmp_path):
     from teamenv.replay import load_replay
 
     path = tmp_path / "m.npz"
+    # long enough for the approach (braking, the walk to the spot) and the ball's roll
     play_league_match("tests.teamenv.kick_teams:NearChaserTeam", "static",
-                      LeagueMatchOptions(team_size=1, game_s=12.0, server="local"), seed=5,
+                      LeagueMatchOptions(team_size=1, game_s=18.0, server="local"), seed=5,
                       replay_path=path)
     replay = load_replay(path)
     ball = replay.ball[:, :2]
