@@ -98,7 +98,7 @@ def goal_difference(scores) -> dict:
     return {"mean": mean, "ci95": [low, high]}
 
 
-def _evaluation_match(task: tuple) -> dict:
+def evaluation_match(task: tuple) -> dict:
     """One evaluation match (``teamenv.headtohead``'s convention: the snapshot on the left
     for even seeds), from the snapshot's side: score, goal times, cycles."""
     team, config, opponent, seed, options = task
@@ -118,12 +118,12 @@ def _evaluation_match(task: tuple) -> dict:
 
 def evaluation_matches(team: str, config: dict, opponent: str, seeds, options: MatchOptions,
                        jobs: int) -> list[dict]:
-    """``_evaluation_match`` for every seed, on ``jobs`` processes (same results for any)."""
+    """``evaluation_match`` for every seed, on ``jobs`` processes (same results for any)."""
     tasks = [(team, config, opponent, s, options) for s in seeds]
     if jobs > 1:
         with ProcessPoolExecutor(max_workers=jobs) as pool:
-            return list(pool.map(_evaluation_match, tasks))
-    return [_evaluation_match(t) for t in tasks]
+            return list(pool.map(evaluation_match, tasks))
+    return [evaluation_match(t) for t in tasks]
 
 
 def main(argv: list[str] | None = None) -> None:

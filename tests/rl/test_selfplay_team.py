@@ -9,8 +9,11 @@ from pathlib import Path
 
 import pytest
 
-from teamenv.match import MatchOptions, play_match
+from teamenv.match import MatchOptions
 from teamenv.selfplay.egocentric_team import TEAM_SPEC_NAME, egocentric_slots
+from tests.benchmark_scripts import load_benchmark
+
+selfplay_league = load_benchmark("selfplay_league")
 
 ROOT = Path(__file__).resolve().parents[2]
 POLICY = ROOT / "examples" / "policies" / "selfplay_3v3.npz"
@@ -24,14 +27,8 @@ def test_the_committed_snapshot_replays_its_evaluation(row):
     assert egocentric_slots(POLICY) == (2, 3)
     options = MatchOptions.from_dict(report["options"])
     game = report["opponents"]["chaser"]["per_seed"][row]
-    config = {"path": str(POLICY)}
-    if game["snapshot_left"]:
-        result = play_match(TEAM_SPEC_NAME, "chaser", game["seed"], options,
-                            left_config=config)
-        score = list(result.score)
-    else:
-        result = play_match("chaser", TEAM_SPEC_NAME, game["seed"], options,
-                            right_config=config)
-        score = [result.score[1], result.score[0]]
-    assert score == game["goals"]
-    assert result.forfeit is None
+    # the evaluation's own match function; this report stored the score and side only
+    replayed = selfplay_league.evaluation_match(
+        (TEAM_SPEC_NAME, {"path": str(POLICY)}, "chaser", game["seed"], options))
+    assert {key: replayed[key] for key in game} == game
+    assert replayed["forfeit"] == ""

@@ -11,8 +11,11 @@ from pathlib import Path
 
 import pytest
 
-from teamenv.match import MatchOptions, play_match
+from teamenv.match import MatchOptions
 from teamenv.selfplay.egocentric_team import TEAM_SPEC_NAME, egocentric_slots
+from tests.benchmark_scripts import load_benchmark
+
+selfplay_league = load_benchmark("selfplay_league")
 
 ROOT = Path(__file__).resolve().parents[3]
 POLICY = ROOT / "examples" / "policies" / "selfplay_3v3_imitation.npz"
@@ -40,17 +43,8 @@ def test_the_committed_team_replays_its_evaluation_against_chaser(row):
     report = _report()
     options = MatchOptions.from_dict(report["options"])
     game = report["opponents"]["chaser"]["per_seed"][row]
-    config = {"path": str(POLICY)}
-    if game["snapshot_left"]:
-        result = play_match(TEAM_SPEC_NAME, "chaser", game["seed"], options,
-                            left_config=config)
-        score, mine = list(result.score), "left"
-    else:
-        result = play_match("chaser", TEAM_SPEC_NAME, game["seed"], options,
-                            right_config=config)
-        score, mine = [result.score[1], result.score[0]], "right"
-    assert result.forfeit is None and game["forfeit"] == ""
-    assert score == game["goals"]
-    assert result.cycles == game["cycles"]
-    assert [[round(g.time_s, 2), "for" if g.side == mine else "against"]
-            for g in result.goals] == game["goal_times_s"]
+    # the evaluation's own match function: score, goal times and sides, cycles, forfeit
+    replayed = selfplay_league.evaluation_match(
+        (TEAM_SPEC_NAME, {"path": str(POLICY)}, "chaser", game["seed"], options))
+    assert replayed["forfeit"] == "" and game["forfeit"] == ""
+    assert replayed == game
