@@ -77,8 +77,12 @@ class _Plan:
         self.model, self.data = model, sim.mj_data
         self.agents = agents
         kinds = mujoco.mjtSensor
+        # vector sensors: the row's list of names and how many values each one reads
+        vectors = {kinds.mjSENS_GYRO: ("gyro", 3), kinds.mjSENS_ACCELEROMETER: ("acc", 3),
+                   kinds.mjSENS_FRAMEQUAT: ("quat", 4), kinds.mjSENS_FRAMEPOS: ("pos", 3)}
         self.rows: list[dict[str, Any]] = []
-        jpos, jvel, gyro, acc, quat, pos = [], [], [], [], [], []
+        keys = ("jpos", "jvel", "gyro", "acc", "quat", "pos")
+        adrs: dict[str, list[int]] = {k: [] for k in keys}
         for agent in agents:
             prefix = agent.agent_id.prefix
             row: dict[str, Any] = {"joint_names": [], "n_jvel": 0, "gyro": [], "acc": [],
@@ -89,27 +93,19 @@ class _Plan:
                 adr = int(model.sensor_adr[i])
                 if spec.type == kinds.mjSENS_JOINTPOS:
                     row["joint_names"].append(name)
-                    jpos.append(adr)
+                    adrs["jpos"].append(adr)
                 elif spec.type == kinds.mjSENS_JOINTVEL:
                     row["n_jvel"] += 1
-                    jvel.append(adr)
-                elif spec.type == kinds.mjSENS_GYRO:
-                    row["gyro"].append(name)
-                    gyro += range(adr, adr + 3)
-                elif spec.type == kinds.mjSENS_ACCELEROMETER:
-                    row["acc"].append(name)
-                    acc += range(adr, adr + 3)
-                elif spec.type == kinds.mjSENS_FRAMEQUAT:
-                    row["quat"].append(name)
-                    quat += range(adr, adr + 4)
-                elif spec.type == kinds.mjSENS_FRAMEPOS:
-                    row["pos"].append(name)
-                    pos += range(adr, adr + 3)
+                    adrs["jvel"].append(adr)
+                elif spec.type in vectors:
+                    key, width = vectors[spec.type]
+                    row[key].append(name)
+                    adrs[key] += range(adr, adr + width)
                 elif spec.type == kinds.mjSENS_TOUCH:
                     raise Unhandled      # not on the T1: left to the server's own code
             self.rows.append(row)
         self.jpos, self.jvel, self.gyro, self.acc, self.quat, self.pos = (
-            np.array(a, dtype=np.intp) for a in (jpos, jvel, gyro, acc, quat, pos))
+            np.array(adrs[k], dtype=np.intp) for k in keys)
         # vision: the world's marks, then every agent's markers, in the server's order
         world = list(sim._world_markers)
         for _, name in world:
