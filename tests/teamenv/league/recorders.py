@@ -1,4 +1,5 @@
-"""Walk controllers that record the commands they are asked to walk (league tests)."""
+"""Walk controllers that record the commands they are asked to walk, and a match on a LocalServer
+that checks as it plays (league tests)."""
 
 from __future__ import annotations
 
@@ -36,3 +37,22 @@ def recording_walker():
             return super().step(command, perception, adjust)
 
     return RecordingWalker()
+
+
+def play_on_checking_server(monkeypatch, server_class, left: str, right: str, options,
+                            seed: int):
+    """Play a league match whose ``LocalServer`` is ``server_class`` (a subclass that checks
+    every cycle as it goes) and return that one server."""
+    from teamenv.league import local_server
+    from teamenv.league.match import play_league_match
+
+    servers = []
+
+    def make(*args, **kwargs):
+        servers.append(server_class(*args, **kwargs))
+        return servers[-1]
+
+    monkeypatch.setattr(local_server, "LocalServer", make)
+    play_league_match(left, right, options, seed=seed)
+    (server,) = servers
+    return server

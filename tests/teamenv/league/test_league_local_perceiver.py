@@ -16,8 +16,9 @@ pytest.importorskip("mujoco")
 from teamenv.league import local_server as ls  # noqa: E402
 from teamenv.league.local_perceiver import LocalPerceiver, Unhandled, supported  # noqa: E402
 from teamenv.league.local_perception import perception_text  # noqa: E402
-from teamenv.league.match import LeagueMatchOptions, play_league_match  # noqa: E402
+from teamenv.league.match import LeagueMatchOptions  # noqa: E402
 from teamenv.league.perception import parse_perception  # noqa: E402
+from tests.teamenv.league.recorders import play_on_checking_server  # noqa: E402
 from tests.teamenv.league.test_league_local_perception import bits  # noqa: E402
 
 
@@ -62,16 +63,9 @@ def test_rcsssmj_is_the_release_mirrored() -> None:
 
 
 def test_a_match_perceives_the_wires_bits_from_the_simulation(monkeypatch) -> None:
-    servers: list[_Both] = []
-
-    def make(*args, **kwargs):
-        servers.append(_Both(*args, **kwargs))
-        return servers[-1]
-
-    monkeypatch.setattr(ls, "LocalServer", make)
-    play_league_match("full", "full", LeagueMatchOptions(team_size=3, game_s=1.2,
-                                                         server="local"), seed=2)
-    (server,) = servers
+    server = play_on_checking_server(
+        monkeypatch, _Both, "full", "full",
+        LeagueMatchOptions(team_size=3, game_s=1.2, server="local"), seed=2)
     assert server.compared >= 6 * 60
     assert min(server.seen.values()) > 0, server.seen
 

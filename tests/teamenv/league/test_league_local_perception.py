@@ -17,6 +17,7 @@ from teamenv.league import local_server as ls  # noqa: E402
 from teamenv.league.local_perception import perception_from_objects, perception_text  # noqa: E402
 from teamenv.league.match import LeagueMatchOptions, play_league_match  # noqa: E402
 from teamenv.league.perception import parse_perception  # noqa: E402
+from tests.teamenv.league.recorders import play_on_checking_server  # noqa: E402
 
 
 def bits(value):
@@ -68,17 +69,10 @@ class _Both(ls.LocalServer):
 
 
 def test_a_match_perceives_the_same_bits_without_the_text(monkeypatch) -> None:
-    servers: list[_Both] = []
-
-    def make(*args, **kwargs):
-        servers.append(_Both(*args, **kwargs))
-        return servers[-1]
-
-    monkeypatch.setattr(ls, "LocalServer", make)
     # "full" talks (MIC), both sides see marks, the ball and players; a goal-less kick-off
-    play_league_match("full", "chaser", LeagueMatchOptions(team_size=2, game_s=1.5,
-                                                           server="local"), seed=3)
-    (server,) = servers
+    server = play_on_checking_server(
+        monkeypatch, _Both, "full", "chaser",
+        LeagueMatchOptions(team_size=2, game_s=1.5, server="local"), seed=3)
     assert server.compared >= 4 * 80
     assert min(server.seen.values()) > 0, server.seen
 
