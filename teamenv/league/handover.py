@@ -16,6 +16,7 @@ from __future__ import annotations
 import math
 from collections import deque
 
+from .command_ramp import CommandRamp
 from .controller import CYCLE_S
 from .perception import Perception
 
@@ -56,40 +57,31 @@ class TorsoSpeed:
         return math.hypot(x1 - x0, y1 - y0) / ((len(self._places) - 1) * CYCLE_S)
 
 
-def _toward(value: float, target: float, step: float) -> float:
-    return value + max(-step, min(step, target - value))
-
-
 class HandOver:
     """Braking before the kick's walker takes the approach over from the walk controller.
 
     ``brake(target)`` is the controller's command this cycle (from the last command it walked
-    towards the approach's ``target``, at the braking rates); ``ready`` says when to hand
-    over."""
+    towards the approach's ``target``, at the braking rates, through a ``CommandRamp``);
+    ``ready`` says when to hand over."""
 
     def __init__(self) -> None:
         self.torso = TorsoSpeed()
-        self._command: tuple[float, float, float] | None = None
+        self._ramp = CommandRamp((BRAKE_M_S2, BRAKE_M_S2, BRAKE_TURN_S2))
         self._braking_s = 0.0
 
     def reset(self) -> None:
-        """A new walk: the next braking starts from ``walked``'s command."""
-        self._command = None
+        """A new walk, from rest: the next braking starts from ``walked``'s command."""
+        self._ramp.reset()
         self._braking_s = 0.0
 
     def walked(self, command: tuple[float, float, float]) -> None:
         """The controller walked ``command`` this cycle (not braking)."""
-        self._command = tuple(float(c) for c in command)
+        self._ramp.reset(command)
         self._braking_s = 0.0
 
     def brake(self, target: tuple[float, float, float]) -> tuple[float, float, float]:
-        last = self._command or (0.0, 0.0, 0.0)
-        dv, dw = BRAKE_M_S2 * CYCLE_S, BRAKE_TURN_S2 * CYCLE_S
-        command = (_toward(last[0], target[0], dv), _toward(last[1], target[1], dv),
-                   _toward(last[2], target[2], dw))
-        self._command = command
         self._braking_s += CYCLE_S
-        return command
+        return self._ramp(target)
 
     @property
     def ready(self) -> bool:
