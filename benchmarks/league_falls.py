@@ -5,8 +5,8 @@
     python benchmarks/league_falls.py --left chaser --right static --team-size 1 --seconds 120 \
         --ramp off --seeds 100201:100211                # one robot kicking on its own
 
-Plays ``--left`` v ``--right`` (7 v 7 unless ``--team-size``, ``LocalServer``, the league's default walk) for every
-seed, once with the command ramp (``teamenv.league.command_ramp``) and once without, records
+Plays ``--left`` v ``--right`` (7 v 7 unless ``--team-size``, ``LocalServer``, the league's
+default walk) for every seed, once with the command ramp (``teamenv.league.command_ramp``) and once without, records
 each match as a replay and reads its falls with ``teamenv.league.replay.fall_events`` (latched
 falls, the nearest other robot 5 cycles before). For each fall it reports what the robot's
 encoder did in the cycle it went down (``walk``: the team's walk through the controller;
@@ -91,7 +91,8 @@ def play(left: str, right: str, seed: int, seconds: float, ramp: bool, workdir: 
     start = time.process_time()
     with _recording(log):
         result = play_league_match(left, right, LeagueMatchOptions(
-            team_size=team_size, game_s=seconds, server="local", ramp=ramp), seed=seed, replay_path=path)
+            team_size=team_size, game_s=seconds, server="local", ramp=ramp), seed=seed,
+            replay_path=path)
     cpu = time.process_time() - start
     replay = load_replay(path)
     # player index (left team first, by uniform number) -> the agent's name in the log
