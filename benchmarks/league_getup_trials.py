@@ -29,6 +29,7 @@ import numpy as np
 
 from teamenv.league.getup import GetUpMotion
 from teamenv.league.getup_trial import getup_trial
+from teamenv.league.network_walk import NetworkWalkController
 
 #: the get-up targets (success share, seconds to up)
 TARGET_SUCCESS = 0.95
@@ -43,13 +44,14 @@ def seed_range(text: str) -> list[int]:
         raise SystemExit(f"--seeds: {text!r} is not N or N-M") from None
 
 
-def run(side: str, seeds: list[int]) -> list[dict]:
+def run(side: str, seeds: list[int], after: str = "network") -> list[dict]:
     rows = []
     for seed in seeds:
-        r = getup_trial(GetUpMotion(attempts=1), side, seed, hold_s=2.0)
+        walk = NetworkWalkController() if after == "network" else None
+        r = getup_trial(GetUpMotion(attempts=1), side, seed, hold_s=2.0, after=walk)
         rows.append({"side": side, "seed": seed, "lay_on_front": r.lying_on_front,
                      "chose": r.side_detected, "up": r.up, "fell_after": r.fell_after,
-                     "success": r.success,
+                     "success": r.success, "after": after,
                      "time_to_up": None if math.isnan(r.time_to_up) else round(r.time_to_up, 3),
                      "motion_s": round(r.motion_s, 3),
                      "highest_torso_m": round(float(r.heights.max()), 3),
@@ -83,6 +85,9 @@ def main() -> None:
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--seeds", default="0-99", help="evaluation seeds, N-M (default 0-99)")
     ap.add_argument("--side", choices=("front", "back", "both"), default="both")
+    ap.add_argument("--after", choices=("network", "pose"), default="network",
+                    help="what stands the robot in the 2 s after the motion: the league's "
+                         "walk, as in a match (default), or the motion's end pose")
     ap.add_argument("--json", default=None, help="write every trial here")
     ap.add_argument("--merge", nargs="+", default=None,
                     help="summarise these --json files (e.g. one per side, run in parallel) "
@@ -103,7 +108,7 @@ def main() -> None:
     every = []
     for side in sides:
         t0 = time.perf_counter()
-        rows = run(side, seeds)
+        rows = run(side, seeds, args.after)
         every += rows
         print(summary(side, rows), f"({time.perf_counter() - t0:.0f} s wall)", flush=True)
         failed = [r["seed"] for r in rows if not r["success"]]

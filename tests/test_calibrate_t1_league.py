@@ -98,3 +98,23 @@ def test_the_kick_reach_is_the_league_kicks_start_spot(monkeypatch):
     # one source: the spot moves, the reach moves with it
     monkeypatch.setattr(kick, "LEAGUE_KICK", kick.LEAGUE_KICK.with_(spot_x=0.6))
     assert cal.kick_reach_parameter()["kick_reach"]["value"] > reach["value"] + 0.1
+
+
+def test_the_get_up_time_from_league_replays_counts_each_fall_until_the_robot_stood(
+        tmp_path, monkeypatch):
+    from types import SimpleNamespace
+
+    import teamenv.replay
+    from teamenv.league.replay import RECOVER_CYCLES
+
+    down = np.zeros((1000, 2), bool)
+    down[100:250, 0] = True              # 3 s down
+    down[300:800, 1] = True              # 10 s: the referee stood it up
+    down[990:, 0] = True                 # still down at the end: left out
+    (tmp_path / "m1.npz").write_bytes(b"")
+    monkeypatch.setattr(teamenv.replay, "load_replay", lambda path: SimpleNamespace(
+        fallen=down, metadata={"cycle_s": 0.02}))
+    assert RECOVER_CYCLES < 990 - 800
+    entry = cal.getup_from_replays(tmp_path)["getup_duration"]
+    assert entry["value"] == pytest.approx(6.5) and entry["kind"] == "measured"
+    assert "2 falls" in entry["source"] and "1 still down" in entry["source"]

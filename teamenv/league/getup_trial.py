@@ -3,8 +3,10 @@
 ``getup_trial`` makes the robot fall the way ``fall_setup(side, seed)`` draws it: standing in
 the walker's stance with noise, tilted towards its front or back (plus a roll and any
 heading), arms in a random posture, limp-ish joints while it falls for a random 1.0-1.8 s (longer,
-up to 3 s more, until it is down by the observation's fall test); then it runs the motion until ``done``, and keeps holding the end pose for ``hold_s`` to see
-whether it stays up. The plant is ``LocalServer`` (the robot is put in place with
+up to 3 s more, until it is down by the observation's fall test); then it runs the motion until
+``done``, and for ``hold_s`` more sees whether it stays up: standing with ``after`` (a walk
+controller, as a match hands the robot to its walk; the league's is
+``NetworkWalkController``) or, without one, holding the motion's end pose. The plant is ``LocalServer`` (the robot is put in place with
 ``set_robot_pose``, which the real server cannot do; ``real_fall_trial`` tips it over with
 its own motors instead, and runs on either plant).
 
@@ -22,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import effectors
-from .controller import CYCLE_S
+from .controller import CYCLE_S, LocomotionController
 from .falls import is_fallen
 from .getup import END_POSE, GROUPS, GetUpMotion, is_up, lying_on_front
 from .perception import Perception
@@ -117,10 +119,12 @@ class GetUpTrial:
 
 
 def run_getup(motion: GetUpMotion, p: Perception, cycle: Callable[[str], Perception],
-              hold_s: float, max_s: float | None = None) -> tuple[bool, float, bool, np.ndarray,
-                                                            np.ndarray]:
-    """Run ``motion`` from perception ``p``; returns (up at done, time to up, fell in hold,
-    torso heights, torso up-axis z)."""
+              hold_s: float, max_s: float | None = None,
+              after: LocomotionController | None = None) -> tuple[bool, float, bool, np.ndarray,
+                                                                np.ndarray]:
+    """Run ``motion`` from perception ``p``, then stand ``hold_s`` with ``after`` (reset at the
+    hand-over; None: the motion holds its end pose); returns (up at done, time to up, fell in
+    hold, torso heights, torso up-axis z)."""
     motion.start(p)
     max_s = motion.duration + 1.0 if max_s is None else max_s
     heights, uprights, up_since = [], [], None
@@ -141,8 +145,10 @@ def run_getup(motion: GetUpMotion, p: Perception, cycle: Callable[[str], Percept
             up_since = None
     up = motion.succeeded
     fell_after = False
+    if after is not None:
+        after.reset()
     for _ in range(round(hold_s / CYCLE_S)):
-        p = cycle(motion.step(p))
+        p = cycle(motion.step(p) if after is None else after.stand(p))
         record(p)
         if is_fallen(p):
             fell_after = True
@@ -152,11 +158,13 @@ def run_getup(motion: GetUpMotion, p: Perception, cycle: Callable[[str], Percept
 
 
 def getup_trial(motion: GetUpMotion, side: str, seed: int, hold_s: float = 2.0,
-                server=None, watch: Callable[[object], None] | None = None) -> GetUpTrial:
+                server=None, watch: Callable[[object], None] | None = None,
+                after: LocomotionController | None = None) -> GetUpTrial:
     """Fall as ``fall_setup(side, seed)`` draws, get up with ``motion`` on ``server`` (a
     ``LocalServer`` that ``trial_server()`` made, reused to save its start-up; default a new
     one). ``watch(server)`` is called after every cycle of the motion and the hold (tuning
-    looks at the simulation's state there)."""
+    looks at the simulation's state there); ``after``: the walk that stands the robot in the
+    hold (see ``run_getup``)."""
     s = fall_setup(side, seed)
     server = server or trial_server()
     key = (TEAM, UNUM)
@@ -171,8 +179,8 @@ def getup_trial(motion: GetUpMotion, side: str, seed: int, hold_s: float = 2.0,
 
     p = fall(server, s)
     front = lying_on_front(p.orientations["torso_quat"])
-    up, t_up, fell_after, heights, uprights = run_getup(motion, p,
-                                                        watched if watch else cycle, hold_s)
+    up, t_up, fell_after, heights, uprights = run_getup(
+        motion, p, watched if watch else cycle, hold_s, after=after)
     return GetUpTrial(s, motion.side, front, up, t_up, fell_after, motion.duration, heights,
                       uprights)
 
@@ -244,10 +252,12 @@ def tip_message(side: str) -> str:
 
 
 def real_fall_trial(motion: GetUpMotion, side: str, hold_s: float = 1.0,
-                    real_server: bool = True) -> GetUpTrial:
+                    real_server: bool = True,
+                    after: LocomotionController | None = None) -> GetUpTrial:
     """Beam a robot, let it stand 0.5 s, tip it onto ``side`` with its own motors (at most 3 s
-    until it is down and 0.5 s more to settle), get up with ``motion``; on the real
-    ``rcssservermj`` (``real_server``) or on ``LocalServer``."""
+    until it is down and 0.5 s more to settle), get up with ``motion``, stand ``hold_s`` with
+    ``after`` (see ``run_getup``); on the real ``rcssservermj`` (``real_server``) or on
+    ``LocalServer``."""
     from .controller import WalkerController
 
     def run(first: Perception, cycle: Callable[[str], Perception],
@@ -265,7 +275,8 @@ def real_fall_trial(motion: GetUpMotion, side: str, hold_s: float = 1.0,
         for _ in range(25):
             p = cycle(tip)
         front = lying_on_front(p.orientations["torso_quat"])
-        up, t_up, fell_after, heights, uprights = run_getup(motion, p, cycle, hold_s)
+        up, t_up, fell_after, heights, uprights = run_getup(motion, p, cycle, hold_s,
+                                                            after=after)
         setup = FallSetup(side=side, x=-5.0, y=0.0, yaw=0.0, tilt=0.0, roll=0.0, tip_rate=0.0,
                           joints={}, fall_gain=150.0, fall_s=0.0)
         return GetUpTrial(setup, motion.side, front, up, t_up, fell_after, motion.duration,

@@ -85,6 +85,26 @@ def fall_events(replay: Any) -> list[FallEvent]:
     return out
 
 
+def down_times(replay: Any, cycle_s: float) -> tuple[np.ndarray, int]:
+    """How long each fall in a league replay kept the robot down (s): from the fall's first
+    cycle to the first cycle of the ``RECOVER_CYCLES`` up that ended it (``latch_falls``), so
+    a get-up that needed a second try or the referee counts whole; and how many falls were
+    still down when the replay ended (left out of the times)."""
+    fallen = latch_falls(replay.fallen)
+    steps = np.diff(fallen.astype(np.int8), axis=0)
+    times, open_at_end = [], 0
+    for player in range(fallen.shape[1]):
+        rises = np.flatnonzero(steps[:, player] == 1) + 1
+        ends = np.flatnonzero(steps[:, player] == -1) + 1   # first cycle not latched
+        for row in rises:
+            later = ends[ends > row]
+            if not len(later):
+                open_at_end += 1
+                continue
+            times.append((int(later[0]) - RECOVER_CYCLES + 1 - int(row)) * cycle_s)
+    return np.asarray(times, float), open_at_end
+
+
 class LeagueReplayRecorder:
     """Records a ``LocalServer`` match; ``record(game, kicking, said)`` once per cycle (after
     the perceptions), ``save(path, metadata)`` at the end.

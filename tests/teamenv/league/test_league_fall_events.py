@@ -8,7 +8,12 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from teamenv.league.replay import FALL_LOOKBACK_CYCLES, RECOVER_CYCLES, fall_events
+from teamenv.league.replay import (
+    FALL_LOOKBACK_CYCLES,
+    RECOVER_CYCLES,
+    down_times,
+    fall_events,
+)
 
 
 def test_fall_events_latch_flicker_and_measure_the_nearest_robot():
@@ -30,3 +35,15 @@ def test_fall_events_latch_flicker_and_measure_the_nearest_robot():
     # the distance is read before the fall: a robot that moves during it does not count
     players[120 - FALL_LOOKBACK_CYCLES + 1:, 1, 0] = 5.1
     assert fall_events(replay)[1].nearest_m == pytest.approx(2.0)
+
+
+def test_down_times_count_a_fall_until_the_robot_stood_and_leave_out_one_still_down():
+    t = 300
+    down = np.zeros((t, 2), bool)
+    down[50:60, 0] = True
+    down[62:64, 0] = True        # flickers up for 2 cycles: the same fall, down until 64
+    down[100:140, 1] = True      # a second try, or the referee: one fall of 40 cycles
+    down[280:, 0] = True         # still down when the replay ends
+    times, still_down = down_times(SimpleNamespace(fallen=down), cycle_s=0.02)
+    assert sorted(times.round(6).tolist()) == [0.28, 0.8]
+    assert still_down == 1

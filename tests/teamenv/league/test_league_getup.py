@@ -169,11 +169,39 @@ def test_a_robot_lying_on_its_front_or_back_stands_up_within_5_s_and_stays_up(si
     assert r.heights[-1] > 0.6                       # standing in the stance (0.67 m)
 
 
+def test_the_league_walk_after_the_motion_keeps_up_a_robot_the_held_pose_lets_topple() -> None:
+    """As in a match, the walk takes over when the motion is done: the reference network
+    stepping on the spot catches a robot that comes up with some speed (front fall 1)."""
+    from teamenv.league.network_walk import NetworkWalkController
+
+    class Counting(NetworkWalkController):
+        resets = stands = 0
+
+        def reset(self) -> None:
+            self.resets += 1
+            super().reset()
+
+        def stand(self, perception):
+            self.stands += 1
+            return super().stand(perception)
+
+    held = getup_trial(GetUpMotion(attempts=1), "front", seed=1, hold_s=2.0)
+    walk = Counting()
+    walked = getup_trial(GetUpMotion(attempts=1), "front", seed=1, hold_s=2.0, after=walk)
+    assert held.up and held.fell_after                      # the pose alone topples
+    assert walked.up and walked.success                     # the walk keeps it up
+    assert walk.resets == 1 and walk.stands == round(2.0 / 0.02)
+
+
 @pytest.mark.parametrize("side", ["front", "back"])
 def test_a_get_up_on_the_real_server(side) -> None:
     """Real rcssservermj: the robot tips itself onto its front or back with its own motors,
-    the motion sees the side and stands the robot up, still up 1 s later."""
-    r = real_fall_trial(GetUpMotion(attempts=1), side, hold_s=1.0, real_server=True)
+    the motion sees the side and stands the robot up, still up 1 s later on the league's walk
+    (as in a match)."""
+    from teamenv.league.network_walk import NetworkWalkController
+
+    r = real_fall_trial(GetUpMotion(attempts=1), side, hold_s=1.0, real_server=True,
+                        after=NetworkWalkController())
     assert r.lying_on_front == (side == "front") and r.side_detected == side
     assert r.heights[0] < 0.2
     assert r.success and r.time_to_up <= 5.0
