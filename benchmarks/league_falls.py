@@ -18,7 +18,8 @@ smooths). The encoder's state is read by wrapping ``RequestEncoder.encode`` for 
 
 Prints falls per match for each setting with the share near another robot (< 1 m) and the
 share by state, and the kicks that moved the ball at least ``KICK_M`` (the replay's kicks) and
-the goals per match; ``--json`` writes every fall.
+the goals per match; ``--json`` writes every fall, ``--commands`` every robot's state and
+requested walk per cycle (``league_walk_playback.py`` walks them again on a lone robot).
 """
 
 from __future__ import annotations
@@ -110,6 +111,7 @@ def play(left: str, right: str, seed: int, seconds: float, ramp: bool, workdir: 
                       "jump": _jumped(walks, accel, CYCLE_S)})
     return {"left": left, "right": right, "seed": seed, "seconds": seconds, "ramp": ramp,
             "score": list(result.score), "cpu_s": round(cpu, 1), "falls": falls,
+            "commands": {who: [[state, *walk] for state, walk in log[who]] for who in agents},
             "team_size": team_size,
             "kicks": 0 if replay.kick_distance is None
             else int((replay.kick_distance >= KICK_M).sum())}
@@ -157,21 +159,33 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--team-size", type=int, default=7)
     parser.add_argument("--ramp", choices=("both", "on", "off"), default="both")
     parser.add_argument("--json", type=Path, default=None)
+    parser.add_argument("--replay-dir", type=Path, default=None,
+                        help="keep the matches' replays here (default: a temporary folder)")
+    parser.add_argument("--commands", type=Path, default=None,
+                        help="write every robot's state and requested walk per cycle here")
     args = parser.parse_args(argv)
     first, stop = (int(v) for v in args.seeds.split(":"))
     settings = {"both": (True, False), "on": (True,), "off": (False,)}[args.ramp]
     matches = []
     with tempfile.TemporaryDirectory() as tmp:
+        workdir = Path(tmp) if args.replay_dir is None else args.replay_dir
+        workdir.mkdir(parents=True, exist_ok=True)
         for seed in range(first, stop):
             for ramp in settings:
-                m = play(args.left, args.right, seed, args.seconds, ramp, Path(tmp),
+                m = play(args.left, args.right, seed, args.seconds, ramp, workdir,
                          args.team_size)
                 matches.append(m)
                 print(f"seed {seed} {'ramp' if ramp else 'no ramp'}: {len(m['falls'])} falls, "
                       f"{m['kicks']} kicks, score {m['score']}, {m['cpu_s']} CPU s", flush=True)
     print(summary(matches))
+    if args.commands:
+        # every robot's encoder state and requested walk per cycle, for league_walk_playback.py
+        args.commands.write_text(json.dumps({"matches": [
+            {"seed": m["seed"], "ramp": m["ramp"], "commands": m["commands"]}
+            for m in matches]}) + "\n")
     if args.json:
-        args.json.write_text(json.dumps({"matches": matches}, indent=1) + "\n")
+        args.json.write_text(json.dumps({"matches": [
+            {k: v for k, v in m.items() if k != "commands"} for m in matches]}, indent=1) + "\n")
 
 
 if __name__ == "__main__":
