@@ -218,7 +218,8 @@ def fall_statistics(replay_dir: Path, near_m: float = 1.0) -> dict[str, Any]:
 def update_profile(profile: dict[str, Any], params: dict[str, dict],
                    measurements: dict[str, Any]) -> dict[str, Any]:
     """``profile`` with ``params`` replacing its parameters (each keeps a note of what it
-    replaced) and ``measurements`` added under ``measurements['league_client']``."""
+    replaced) and ``measurements`` added to ``measurements['league_client']`` (each kind
+    replacing the same kind measured before)."""
     out = json.loads(json.dumps(profile))
     for name, entry in params.items():
         if name not in out["parameters"]:
@@ -228,7 +229,9 @@ def update_profile(profile: dict[str, Any], params: dict[str, dict],
         entry["note"] = f"replaces {old.get('value')!r} ({old.get('kind')})"
         out["parameters"][name] = entry
     if measurements:
-        out.setdefault("measurements", {})["league_client"] = measurements
+        # measurements of this run replace their own kind only (a run without the walk keeps
+        # the walk measured before)
+        out.setdefault("measurements", {}).setdefault("league_client", {}).update(measurements)
     return out
 
 

@@ -24,6 +24,11 @@ requests into what the network walks:
 - ``clamp``: each component clamped to its own limit instead of the ellipsoid's common scale
   (a sideways part no longer slows the forward walk);
 - ``clamp+brake``: both;
+- ``sideV``: the sideways request capped at V m/s before the envelope (0.06, 0: the network
+  barely steps sideways below 0.1 m/s; a large sideways request no longer scales the forward
+  walk and the turn down, and the robot no longer walks at the envelope's sideways edge);
+- ``forwardV``: the forward request capped at V m/s (0.9: a forward speed swinging between
+  1.2 and 0.4 m/s fells the network, between 0.8 and 0 it does not), ``forwardV+sideW`` both;
 - ``lowpassT``: the envelope, then the forward speed through a first-order low-pass filter of
   time constant T s (0.5, 1): a forward speed that swings by ~0.8 m/s every second or two
   fells the network even when each swing is ramped, see docs/league.md "Falls".
@@ -37,12 +42,14 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import re
 import time
 from collections.abc import Callable
 from pathlib import Path
 
 Command = tuple[float, float, float]
-LIMITERS = ("envelope", "ramp", "brake", "clamp", "clamp+brake", "lowpass0.5", "lowpass1")
+LIMITERS = ("envelope", "ramp", "brake", "clamp", "clamp+brake", "lowpass0.5", "lowpass1",
+            "side0.06", "side0", "forward0.9", "forward0.9+side0.06")
 
 
 def stretches(path: Path, min_s: float, cycle_s: float) -> list[dict]:
@@ -78,6 +85,11 @@ def limiter(name: str) -> Callable[[Command], Command]:
         return (vx, min(max(c[1], -env.vy), env.vy), min(max(c[2], -env.turn), env.turn))
 
     shape = clamp if name.startswith("clamp") else env.limit
+    if name.startswith(("side", "forward")):
+        caps = {axis: float(value) for axis, value in
+                (re.fullmatch(r"([a-z]+)([0-9.]+)", part).groups() for part in name.split("+"))}
+        side, forward = caps.get("side", math.inf), caps.get("forward", math.inf)
+        return lambda c: env.limit((min(c[0], forward), min(max(c[1], -side), side), c[2]))
     if name.startswith("lowpass"):
         tau = float(name[len("lowpass"):])
         state = [0.0]
@@ -99,6 +111,8 @@ def limiter(name: str) -> Callable[[Command], Command]:
 
 
 def play(stretch: dict, name: str, cycle_s: float) -> dict:
+    from teamenv.field import field_preset
+    from teamenv.league.match import FIELD
     from teamenv.league.network_walk import NetworkWalkController
     from teamenv.league.walk_trial import walk_trial
 
@@ -109,7 +123,13 @@ def play(stretch: dict, name: str, cycle_s: float) -> dict:
     trial = walk_trial(controller, lambda t: limit(commands[min(round(t / cycle_s),
                                                                  len(commands) - 1)]),
                        seconds=len(commands) * cycle_s)
-    return {"fell": bool(trial.fell), "walked_s": round(float(trial.upright_s), 2)}
+    # walked open loop, a long stretch can leave the pitch (into a goal, over the boundary):
+    # such a fall is the playback's, not the walk's
+    field = field_preset(FIELD)
+    x, y = (abs(float(v)) for v in trial.poses[-1, :2])
+    off = x > field.length / 2 or y > field.width / 2
+    return {"fell": bool(trial.fell) and not off, "off_field": bool(off),
+            "walked_s": round(float(trial.upright_s), 2)}
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -129,8 +149,9 @@ def main(argv: list[str] | None = None) -> None:
         t0 = time.perf_counter()
         results[name] = [play(r, name, CYCLE_S) for r in runs]
         falls = sum(r["fell"] for r in results[name])
+        off = sum(r["off_field"] for r in results[name])
         minutes = sum(r["walked_s"] for r in results[name]) / 60
-        print(f"{name:12s} falls {falls:3d} of {len(runs)} stretches, "
+        print(f"{name:12s} falls {falls:3d} of {len(runs)} stretches ({off} left the pitch), "
               f"{falls / max(minutes, 1e-9):.2f} per minute walked "
               f"({time.perf_counter() - t0:.0f} s)", flush=True)
     names = list(results)

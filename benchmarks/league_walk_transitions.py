@@ -8,6 +8,11 @@ reference walking network (``NetworkWalkController``): 2 s forward at 1.2 m/s, t
 an abrupt stop, a stop spread over 0.6-2.4 s, turning on the spot at once or after slowing
 down, turning on the spot with the direction flipped every 0.3 s — from five start poses;
 prints, per schedule, how many of the runs fell and when (seconds since walking began).
+The steady walks and forward-speed swings (``STEADY_AND_SWINGS``, run with ``--seconds 20``)
+ask what in the teams' requests fells a robot walking alone::
+
+    python benchmarks/league_walk_transitions.py --seconds 20 steady-forward-1.2 \
+        swing-1.2-0.4-1s swing-1.2-0.4-1s-ramp-1 swing-1.2-0.4-1s-lowpass-0.5
 These are the requests a team makes in a match when its target or the ball passes behind a
 robot running at full speed; ``teamenv.league.command_ramp`` spreads them out.
 """
@@ -43,6 +48,60 @@ def _flip(rate: float) -> Callable[[float], Command]:
     return lambda t: (0.0, 0.0, rate if int(t / 0.3) % 2 == 0 else -rate)
 
 
+def _swing(high: float, low: float, period_s: float) -> Callable[[float], Command]:
+    """Forward at ``high`` and ``low`` m/s by turns, ``period_s`` each."""
+    return lambda t: (high if int(t / period_s) % 2 == 0 else low, 0.0, 0.0)
+
+
+def _filtered(schedule: Callable[[float], Command], kind: str, value: float
+              ) -> Callable[[float], Command]:
+    """``schedule``'s forward speed through a rate limit (``kind`` "ramp": ``value`` m/s^2) or
+    a first-order low-pass filter ("lowpass": time constant ``value`` s); restarts at t = 0."""
+    from teamenv.league.controller import CYCLE_S
+
+    state = [0.0]
+
+    def filtered(t: float) -> Command:
+        if t == 0.0:
+            state[0] = 0.0
+        want = schedule(t)[0]
+        if kind == "ramp":
+            state[0] += min(max(want - state[0], -value * CYCLE_S), value * CYCLE_S)
+        else:
+            state[0] += (want - state[0]) * min(1.0, CYCLE_S / value)
+        return (state[0], 0.0, 0.0)
+
+    return filtered
+
+
+def _limited(command: Command) -> Callable[[float], Command]:
+    """A steady ``command`` scaled into the network's envelope, as matches walk it."""
+    from teamenv.league.network_walk import NETWORK_ENVELOPE
+
+    limited = NETWORK_ENVELOPE.limit(command)
+    return lambda t: limited
+
+
+#: steady walks and swings of the forward speed (run with --seconds 20): what in the teams'
+#: requests fells a robot walking alone (benchmarks/league_walk_playback.py)
+STEADY_AND_SWINGS: dict[str, Callable[[float], Command]] = {
+    "steady-forward-1.2": lambda t: (1.2, 0.0, 0.0),
+    "steady-turn-1.0": lambda t: (0.0, 0.0, 1.0),
+    "steady-fast-curve": _limited((1.2, 0.0, 1.5)),
+    "steady-back-sideways": _limited((-0.5, 0.1, 0.0)),
+    "steady-spin-walking": _limited((0.5, 0.0, 1.8)),
+    "turn-swing-1.0-0.4s": lambda t: (1.2, 0.0, 1.0 if int(t / 0.4) % 2 else -1.0),
+    "swing-1.2-0.4-1s": _swing(1.2, 0.4, 1.0),
+    "swing-1.2-0.4-2s": _swing(1.2, 0.4, 2.0),
+    "swing-1.2-0.8-1s": _swing(1.2, 0.8, 1.0),
+    "swing-0.8-0.0-1s": _swing(0.8, 0.0, 1.0),
+    "swing-0.9-0.2-1s": _swing(0.9, 0.2, 1.0),
+    "swing-1.0-0.3-1s": _swing(1.0, 0.3, 1.0),
+    "swing-1.2-0.4-1s-ramp-1": _filtered(_swing(1.2, 0.4, 1.0), "ramp", 1.0),
+    "swing-1.2-0.4-1s-ramp-2": _filtered(_swing(1.2, 0.4, 1.0), "ramp", 2.0),
+    "swing-1.2-0.4-1s-lowpass-0.5": _filtered(_swing(1.2, 0.4, 1.0), "lowpass", 0.5),
+}
+
 SCHEDULES: dict[str, Callable[[float], Command]] = {
     "stop-abrupt": _after_run(lambda t: (0.0, 0.0, 0.0)),
     "stop-0.6s": _after_run(lambda t: (0.0, 0.0, 0.0), 0.6),
@@ -54,6 +113,7 @@ SCHEDULES: dict[str, Callable[[float], Command]] = {
     "turn-1.5-after-1.2s": _after_run(lambda t: (0.0, 0.0, -1.5), 1.2),
     "flip-1.5-standing": _flip(1.5),
     "flip-1.5-abrupt": _after_run(_flip(1.5)),
+    **STEADY_AND_SWINGS,
 }
 
 

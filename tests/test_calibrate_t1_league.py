@@ -68,7 +68,7 @@ def test_calibration_writes_a_profile_the_loader_accepts(tmp_path):
     vy = np.array(p["tracking_vy"]["value"])
     assert np.all(np.diff(vy[:, 1]) >= 0)  # made non-decreasing
     assert "replaces" in p["tracking_vx"]["note"] and p["tracking_vx"]["kind"] == "measured"
-    assert loaded is not None and updated["measurements"]["league_client"] == {"note": "synthetic"}
+    assert loaded is not None and updated["measurements"]["league_client"]["note"] == "synthetic"
 
 
 def test_no_successful_get_up_keeps_the_referee_rule(tmp_path):
@@ -118,3 +118,11 @@ def test_the_get_up_time_from_league_replays_counts_each_fall_until_the_robot_st
     entry = cal.getup_from_replays(tmp_path)["getup_duration"]
     assert entry["value"] == pytest.approx(6.5) and entry["kind"] == "measured"
     assert "2 falls" in entry["source"] and "1 still down" in entry["source"]
+
+
+def test_a_run_without_the_walk_keeps_the_walk_measured_before():
+    profile = {"parameters": {}, "measurements": {"league_client": {"walk": {"trials": 3}}}}
+    updated = cal.update_profile(profile, {}, {"falls": {"falls": 7}})
+    assert updated["measurements"]["league_client"] == {"walk": {"trials": 3},
+                                                        "falls": {"falls": 7}}
+    assert profile["measurements"]["league_client"] == {"walk": {"trials": 3}}   # not mutated
