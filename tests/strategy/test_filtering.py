@@ -428,6 +428,24 @@ def test_dropping_stale_objects_equals_clustering_again():
     assert fast.clusterings < 0.7 * slow.clusterings, (fast.clusterings, slow.clusterings)
 
 
+def test_numpy_components_are_the_connected_components():
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    from strategy.perception.clustering import _first_of_components
+
+    rng = np.random.default_rng(3)
+    for _ in range(300):
+        n = int(rng.integers(1, 40))
+        m = int(rng.integers(0, 2 * n))
+        a, b = rng.integers(0, n, m), rng.integers(0, n, m)
+        _, component = connected_components(coo_matrix((np.ones(m), (a, b)), shape=(n, n)),
+                                            directed=False)
+        first = np.full(component.max() + 1, n)
+        np.minimum.at(first, component, np.arange(n))
+        np.testing.assert_array_equal(_first_of_components(n, a, b), first[component])
+
+
 def test_numpy_dbscan_labels_like_sklearn_dbscan():
     """The numpy DBSCAN gives sklearn's labels exactly: noise, border points reachable from
     two clusters (the first cluster wins), points exactly eps apart, integer weights, and
