@@ -227,28 +227,35 @@ class MultiObjectWindow:
         self._xy = np.zeros(size + (2,))
         self._weights = np.zeros(size)
         self._version = 0
+        # per object, bumped whenever its sightings change: which objects to cluster again
+        self._object_versions = np.zeros(self.n_objects, dtype=np.int64)
         self._max_time = -np.inf  # at least the latest sighting time held
         # (version, newest per object, alive, fresh, key) of the last window when every
         # sighting held was in the past, so an unchanged window is recognised cheaply
         self._fresh_memo: tuple | None = None
         # a few clusterings by content key: a caller may alternate between two times
         self._cache: dict[tuple[int, bytes], dict[str, NDArray]] = {}
-        self._last: tuple[int, NDArray[np.bool_], dict[str, NDArray]] | None = None
+        # (object versions, fresh, statistics) of the last clustering
+        self._last: tuple[NDArray[np.int64], NDArray[np.bool_], dict[str, NDArray]] | None = None
         self.derive_stale = True
+        """Cluster again only the objects whose window changed since the last clustering and
+        keep the others' statistics (the same result; False clusters every object, for
+        tests)."""
         self.clusterings = 0
         """How many times the window has clustered (for cost accounting and tests)."""
-        """Drop objects that went out of date from the last clustering instead of running
-        DBSCAN again (the same result; False forces a new clustering, for tests)."""
 
     def clear(self) -> None:
         """Forget every sighting (a new half, a reset)."""
         self._times.fill(-np.inf)
         self._version += 1
+        self._object_versions += 1
 
     def clear_objects(self, objects: ArrayLike) -> None:
         """Forget every sighting of ``objects`` (e.g. the ball, moved by the referee)."""
-        self._times[np.asarray(objects, dtype=np.intp)] = -np.inf
+        rows = np.asarray(objects, dtype=np.intp)
+        self._times[rows] = -np.inf
         self._version += 1
+        self._object_versions[rows] += 1
 
     def add(self, time_s: float, objects: ArrayLike, xy: ArrayLike,
             weights: ArrayLike | None = None) -> None:
@@ -289,6 +296,7 @@ class MultiObjectWindow:
         self._xy[ids, slot] = points[keep]
         self._weights[ids, slot] = w[keep]
         self._version += 1
+        self._object_versions[ids] += 1
 
     def prune(self, now_s: float) -> None:
         """Free the slots of sightings out of the window at ``now_s`` (``estimate`` ignores
@@ -340,44 +348,50 @@ class MultiObjectWindow:
                                     fresh, key)
         stats = self._cache.get(key)
         if stats is None:
-            stats = self._without_stale_objects(fresh)
-        if stats is None:
+            stats = self._cluster(fresh)
+        if len(self._cache) >= _CACHE_SIZE and key not in self._cache:
+            del self._cache[next(iter(self._cache))]  # the oldest entry
+        self._cache[key] = stats
+        self._last = (self._object_versions.copy(), fresh, stats)
+        age = np.where(stats["known"], now_s - stats["newest_s"], np.inf)
+        return MultiEstimate(age_s=_frozen(age), **stats)
+
+    def _cluster(self, fresh: NDArray[np.bool_]) -> dict[str, NDArray]:
+        """The statistics of the window ``fresh``: the last clustering's for every object
+        whose fresh sightings did not change since, ``NO_SIGHTINGS`` for an object with none,
+        DBSCAN for the rest. Objects never share a cluster (they are kept 2 eps apart) and
+        each object's sums run over its own sightings in the same order, so an object's
+        statistics do not depend on the others': this is what clustering every object again
+        would give, bit for bit, with DBSCAN on fewer sightings or not at all."""
+        changed = np.ones(self.n_objects, dtype=bool)
+        last = None
+        if self.derive_stale and self._last is not None and self._last[1].shape == fresh.shape:
+            last_versions, last_fresh, last = self._last
+            changed = (self._object_versions != last_versions) | \
+                (fresh != last_fresh).any(axis=1)
+        redo = fresh & changed[:, None]
+        if last is not None and not changed.all():
+            stats = {name: a.copy() for name, a in last.items()}
+            for name, a in stats.items():
+                a[changed] = NO_SIGHTINGS[name]
+        else:
+            stats = None
+        if redo.any() or stats is None:
             self.clusterings += 1
-            obj, slot = np.nonzero(fresh)
+            obj, slot = np.nonzero(redo)
             times = self._times[obj, slot]
             order = np.lexsort((slot, times, obj))  # canonical: object, time, slot
             obj, slot, times = obj[order], slot[order], times[order]
             p = self.params
-            stats = cluster_objects(times, self._xy[obj, slot], self._weights[obj, slot],
-                                    obj.astype(np.int64), self.n_objects, p.eps_m,
-                                    p.min_samples, p.recency_half_life_s,
-                                    p.min_velocity_span_s)
-            stats = {name: _frozen(a) for name, a in stats.items()}
-        if len(self._cache) >= _CACHE_SIZE and key not in self._cache:
-            del self._cache[next(iter(self._cache))]  # the oldest entry
-        self._cache[key] = stats
-        self._last = (self._version, fresh, stats)
-        age = np.where(stats["known"], now_s - stats["newest_s"], np.inf)
-        return MultiEstimate(age_s=_frozen(age), **stats)
-
-    def _without_stale_objects(self, fresh: NDArray[np.bool_]) -> dict[str, NDArray] | None:
-        """The last clustering with the objects that went out of date since dropped, when
-        nothing else changed (None otherwise). Objects never share a cluster (they are kept
-        2 eps apart), so an object's statistics do not depend on the others' sightings: this
-        is what clustering again would give, without sklearn's fixed cost."""
-        if not self.derive_stale or self._last is None or self._last[0] != self._version:
-            return None
-        _, last_fresh, last = self._last
-        if last_fresh.shape != fresh.shape:
-            return None
-        same = (fresh == last_fresh).all(axis=1)
-        gone = ~fresh.any(axis=1)
-        if not (same | gone).all():
-            return None
-        dropped = gone & ~same
-        stats = {name: a.copy() for name, a in last.items()}
-        for name, a in stats.items():
-            a[dropped] = NO_SIGHTINGS[name]
+            fitted = cluster_objects(times, self._xy[obj, slot], self._weights[obj, slot],
+                                     obj.astype(np.int64), self.n_objects, p.eps_m,
+                                     p.min_samples, p.recency_half_life_s,
+                                     p.min_velocity_span_s)
+            if stats is None:
+                stats = fitted
+            else:
+                for name, a in stats.items():
+                    a[changed] = fitted[name][changed]
         return {name: _frozen(a) for name, a in stats.items()}
 
 

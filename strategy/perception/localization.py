@@ -375,6 +375,9 @@ class BatchLocalizer:
         self.resets = np.zeros(self.n_agents, dtype=np.int64)
         """Particles replaced by sensor resetting so far, per agent."""
         self._estimate: PoseEstimate | None = None
+        # (log-weights, their exp): the log-weights change on vision cycles only, the
+        # particles (hence the estimate) every cycle
+        self._exp_memo: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
         self.reset()
 
     # -- state ------------------------------------------------------------------------------
@@ -388,6 +391,14 @@ class BatchLocalizer:
         """(A, N) the normalized weights."""
         w = pm.exp(self._logw - self._logw.max(axis=1, keepdims=True))
         return w / w.sum(axis=1, keepdims=True)
+
+    def _exp_logw(self) -> NDArray[np.float64]:
+        """``pm.exp(self._logw)`` (read-only), computed again only when they changed."""
+        memo = self._exp_memo
+        if memo is None or not np.array_equal(memo[0], self._logw):
+            memo = self._exp_memo = (self._logw.copy(), pm.exp(self._logw))
+            memo[1].setflags(write=False)
+        return memo[1]
 
     def _rows(self, agents: ArrayLike | None) -> NDArray[np.intp] | slice:
         if agents is None:
@@ -586,7 +597,7 @@ class BatchLocalizer:
         ll = self._loglik(p[0], p[1], p[2], s)
 
         # the fit of this update and the augmented-MCL averages (active agents only)
-        w = pm.exp(logw)
+        w = self._exp_logw()[rows].copy()  # = pm.exp(logw), element by element
         q = (w * pm.exp(ll / np.maximum(weight, 1e-12)[:, None])).sum(axis=1)
         prm = self.params
         slow = np.where(np.isnan(self.w_slow[rows]), q, self.w_slow[rows])
@@ -715,7 +726,7 @@ class BatchLocalizer:
     def estimate(self) -> PoseEstimate:
         """Every agent's pose (A, 3) and covariance (A, 3, 3) (see ``PoseEstimate``)."""
         if self._estimate is None:
-            w = pm.exp(self._logw)  # normalized log-weights
+            w = self._exp_logw().copy()  # normalized log-weights
             w /= w.sum(axis=1, keepdims=True)
             x, y, h = self._p
             trig = np.stack((np.cos(h), np.sin(h)))

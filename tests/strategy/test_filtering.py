@@ -428,6 +428,56 @@ def test_dropping_stale_objects_equals_clustering_again():
     assert fast.clusterings < 0.7 * slow.clusterings, (fast.clusterings, slow.clusterings)
 
 
+def test_clustering_only_changed_objects_equals_clustering_all():
+    """Objects seen now and then, with outliers, two clusters and moving objects: keeping
+    the unchanged objects' statistics gives every value of clustering all of them again."""
+    from strategy.perception.filtering import FilterParams, MultiObjectWindow
+
+    rng = np.random.default_rng(12)
+    params = FilterParams(max_age_s=0.5, min_samples=2)
+    fast, slow = MultiObjectWindow(10, params), MultiObjectWindow(10, params)
+    slow.derive_stale = False
+    for cycle in range(600):
+        t = cycle * 0.02
+        if cycle % 2 == 0:
+            ids = np.flatnonzero(rng.random(10) < 0.4)
+            xy = ids[:, None] * 5.0 + t * np.array([0.5, -0.2]) + \
+                rng.normal(size=(len(ids), 2)) * 0.1
+            jump = rng.random(len(ids)) < 0.2  # outliers and a second cluster
+            xy[jump] += rng.choice([1.5, 3.0], size=(int(jump.sum()), 1))
+            for w in (fast, slow):
+                w.add(t, ids, xy)
+        if cycle % 97 == 0:
+            for w in (fast, slow):
+                w.clear_objects([cycle % 10])
+        if cycle % 13 == 0:
+            for w in (fast, slow):
+                w.prune(t)
+        a, b = fast.estimate(t), slow.estimate(t)
+        for name in ("known", "positions", "time_s", "newest_s", "spread", "n", "outliers",
+                     "rejected", "velocities", "velocity_sigma", "age_s"):
+            np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
+    assert (slow.estimate(t).rejected > 0).any() or (slow.estimate(t).outliers > 0).any()
+
+
+def test_numpy_components_are_the_connected_components():
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    from strategy.perception.clustering import _first_of_components
+
+    rng = np.random.default_rng(3)
+    for _ in range(300):
+        n = int(rng.integers(1, 40))
+        m = int(rng.integers(0, 2 * n))
+        a, b = rng.integers(0, n, m), rng.integers(0, n, m)
+        _, component = connected_components(coo_matrix((np.ones(m), (a, b)), shape=(n, n)),
+                                            directed=False)
+        first = np.full(component.max() + 1, n)
+        np.minimum.at(first, component, np.arange(n))
+        np.testing.assert_array_equal(_first_of_components(n, a, b), first[component])
+
+
 def test_numpy_dbscan_labels_like_sklearn_dbscan():
     """The numpy DBSCAN gives sklearn's labels exactly: noise, border points reachable from
     two clusters (the first cluster wins), points exactly eps apart, integer weights, and
