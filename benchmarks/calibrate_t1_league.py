@@ -172,14 +172,21 @@ def getup_parameters(path: Path) -> dict[str, dict]:
                   f"(benchmarks/league_getup_trials.py, {Path(path).name})"}}
 
 
-def getup_from_replays(replay_dir: Path) -> dict[str, dict]:
-    """The mean time fallen robots stayed down in league replays, as ``getup_duration``."""
-    from teamenv.league.replay import down_times
+def load_replays(replay_dir: Path) -> list:
+    """Every league replay (``*.npz``) in ``replay_dir``, in name order, loaded once for the
+    fall statistics and the get-up time."""
     from teamenv.replay import load_replay
 
+    return [load_replay(path) for path in sorted(Path(replay_dir).glob("*.npz"))]
+
+
+def getup_from_replays(replays: list, folder: str) -> dict[str, dict]:
+    """The mean time fallen robots stayed down in league ``replays`` (from ``folder``), as
+    ``getup_duration``."""
+    from teamenv.league.replay import down_times
+
     times, still_down = [], 0
-    for path in sorted(Path(replay_dir).glob("*.npz")):
-        replay = load_replay(path)
+    for replay in replays:
         t, n = down_times(replay, float(replay.metadata["cycle_s"]))
         times += t.tolist()
         still_down += n
@@ -189,19 +196,17 @@ def getup_from_replays(replay_dir: Path) -> dict[str, dict]:
         "value": round(float(np.mean(times)), 2), "unit": "s", "kind": "measured",
         "source": f"{SCRIPT}: mean time down of {len(times)} falls in league matches (second "
                   f"tries and the referee's stand-up included; {still_down} still down at a "
-                  f"match's end left out), replays in {Path(replay_dir).name}"}}
+                  f"match's end left out), replays in {folder}"}}
 
 
-def fall_statistics(replay_dir: Path, near_m: float = 1.0) -> dict[str, Any]:
-    """Falls per robot and minute of play in league replays, and the share near another robot."""
+def fall_statistics(replays: list, replay_dir: Path, near_m: float = 1.0) -> dict[str, Any]:
+    """Falls per robot and minute of play in league ``replays`` (from ``replay_dir``), and the
+    share near another robot."""
     from teamenv.league.replay import fall_events
-    from teamenv.replay import load_replay
 
     falls = near = 0
     robot_minutes = 0.0
-    replays = sorted(Path(replay_dir).glob("*.npz"))
-    for path in replays:
-        replay = load_replay(path)
+    for replay in replays:
         playing = replay.play_mode != 0
         cycle_s = float(replay.metadata["cycle_s"])
         robot_minutes += float(playing.sum()) * cycle_s / 60.0 * replay.fallen.shape[1]
@@ -271,9 +276,11 @@ def main(argv: list[str] | None = None) -> int:
     if args.getup:
         params |= getup_parameters(Path(args.getup))
     if args.replays:
-        measurements["falls"] = fall_statistics(Path(args.replays))
+        replays = load_replays(Path(args.replays))
+        measurements["falls"] = fall_statistics(replays, Path(args.replays))
         print("falls:", measurements["falls"])
-        params |= getup_from_replays(Path(args.replays))   # matches count the retries
+        # matches count the retries
+        params |= getup_from_replays(replays, Path(args.replays).name)
     updated = update_profile(profile, params, measurements)
     if params:
         # the description lists everything this script regenerated, in this run or before

@@ -40,6 +40,7 @@ the stretches that fell under one limiter but not another (paired: the same comm
 from __future__ import annotations
 
 import argparse
+import itertools
 import json
 import math
 import re
@@ -69,11 +70,24 @@ def stretches(path: Path, min_s: float, cycle_s: float) -> list[dict]:
     return out
 
 
+class LowPass:
+    """A first-order low-pass filter of time constant ``tau_s``, one value per cycle, from 0."""
+
+    def __init__(self, tau_s: float) -> None:
+        from teamenv.league.controller import CYCLE_S
+
+        self.gain = min(1.0, CYCLE_S / tau_s)
+        self.value = 0.0
+
+    def __call__(self, target: float) -> float:
+        self.value += (target - self.value) * self.gain
+        return self.value
+
+
 def limiter(name: str) -> Callable[[Command], Command]:
     """A fresh limiter (it keeps state: the ramps)."""
     from locomotion import load_profile
     from teamenv.league.command_ramp import CommandRamp
-    from teamenv.league.controller import CYCLE_S
     from teamenv.league.handover import BRAKE_M_S2, BRAKE_TURN_S2
     from teamenv.league.match import LOCOMOTION_PROFILE
     from teamenv.league.network_walk import NETWORK_ENVELOPE
@@ -91,17 +105,15 @@ def limiter(name: str) -> Callable[[Command], Command]:
         side, forward = caps.get("side", math.inf), caps.get("forward", math.inf)
         return lambda c: env.limit((min(c[0], forward), min(max(c[1], -side), side), c[2]))
     if name.startswith("lowpass"):
-        tau = float(name[len("lowpass"):])
-        state = [0.0]
+        forward = LowPass(float(name[len("lowpass"):]))
 
         def lowpass(c: Command) -> Command:
             c = env.limit(c)
-            state[0] += (c[0] - state[0]) * min(1.0, CYCLE_S / tau)
-            return (state[0], c[1], c[2])
+            return (forward(c[0]), c[1], c[2])
 
         return lowpass
     ramp = None
-    if name in ("ramp",):
+    if name == "ramp":
         ramp = CommandRamp.from_profile(load_profile(LOCOMOTION_PROFILE))
     elif name.endswith("brake"):
         ramp = CommandRamp((BRAKE_M_S2, BRAKE_M_S2, BRAKE_TURN_S2))
@@ -154,18 +166,15 @@ def main(argv: list[str] | None = None) -> None:
         print(f"{name:12s} falls {falls:3d} of {len(runs)} stretches ({off} left the pitch), "
               f"{falls / max(minutes, 1e-9):.2f} per minute walked "
               f"({time.perf_counter() - t0:.0f} s)", flush=True)
-    names = list(results)
-    for a in names:
-        for b in names:
-            if a < b:
-                only_a = sum(x["fell"] and not y["fell"]
-                             for x, y in zip(results[a], results[b], strict=True))
-                only_b = sum(y["fell"] and not x["fell"]
-                             for x, y in zip(results[a], results[b], strict=True))
-                n = only_a + only_b
-                p = min(1.0, 2 * sum(math.comb(n, k) for k in range(min(only_a, only_b) + 1))
-                        / 2 ** n) if n else 1.0
-                print(f"  {a} only {only_a}, {b} only {only_b} (sign test p = {p:.3f})")
+    from scipy.stats import binomtest
+
+    for a, b in itertools.combinations(sorted(results), 2):
+        pairs = list(zip(results[a], results[b], strict=True))
+        only_a = sum(x["fell"] and not y["fell"] for x, y in pairs)
+        only_b = sum(y["fell"] and not x["fell"] for x, y in pairs)
+        n = only_a + only_b
+        p = binomtest(only_a, n).pvalue if n else 1.0    # the sign test
+        print(f"  {a} only {only_a}, {b} only {only_b} (sign test p = {p:.3f})")
     if args.json:
         args.json.write_text(json.dumps({"stretches": [
             {k: v for k, v in r.items() if k != "commands"} for r in runs],

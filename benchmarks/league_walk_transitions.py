@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 from collections.abc import Callable
 from pathlib import Path
 
@@ -55,21 +56,23 @@ def _swing(high: float, low: float, period_s: float) -> Callable[[float], Comman
 
 def _filtered(schedule: Callable[[float], Command], kind: str, value: float
               ) -> Callable[[float], Command]:
-    """``schedule``'s forward speed through a rate limit (``kind`` "ramp": ``value`` m/s^2) or
-    a first-order low-pass filter ("lowpass": time constant ``value`` s); restarts at t = 0."""
-    from teamenv.league.controller import CYCLE_S
+    """``schedule``'s forward speed through a rate limit (``kind`` "ramp": ``CommandRamp`` at
+    ``value`` m/s^2) or a first-order low-pass filter ("lowpass": time constant ``value`` s,
+    ``league_walk_playback.LowPass``); restarts at t = 0."""
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from league_walk_playback import LowPass
 
-    state = [0.0]
+    from teamenv.league.command_ramp import CommandRamp
+
+    state: list = [None]
 
     def filtered(t: float) -> Command:
         if t == 0.0:
-            state[0] = 0.0
-        want = schedule(t)[0]
+            state[0] = CommandRamp((value, value, value)) if kind == "ramp" else LowPass(value)
+        want = (schedule(t)[0], 0.0, 0.0)
         if kind == "ramp":
-            state[0] += min(max(want - state[0], -value * CYCLE_S), value * CYCLE_S)
-        else:
-            state[0] += (want - state[0]) * min(1.0, CYCLE_S / value)
-        return (state[0], 0.0, 0.0)
+            return state[0](want)
+        return (state[0](want[0]), 0.0, 0.0)
 
     return filtered
 

@@ -115,7 +115,7 @@ def test_the_get_up_time_from_league_replays_counts_each_fall_until_the_robot_st
     monkeypatch.setattr(teamenv.replay, "load_replay", lambda path: SimpleNamespace(
         fallen=down, metadata={"cycle_s": 0.02}))
     assert RECOVER_CYCLES < 990 - 800
-    entry = cal.getup_from_replays(tmp_path)["getup_duration"]
+    entry = cal.getup_from_replays(cal.load_replays(tmp_path), tmp_path.name)["getup_duration"]
     assert entry["value"] == pytest.approx(6.5) and entry["kind"] == "measured"
     assert "2 falls" in entry["source"] and "1 still down" in entry["source"]
 

@@ -6,9 +6,10 @@ heading), arms in a random posture, limp-ish joints while it falls for a random 
 up to 3 s more, until it is down by the observation's fall test); then it runs the motion until
 ``done``, and for ``hold_s`` more sees whether it stays up: standing with ``after`` (a walk
 controller, as a match hands the robot to its walk; the league's is
-``NetworkWalkController``) or, without one, holding the motion's end pose. The plant is ``LocalServer`` (the robot is put in place with
-``set_robot_pose``, which the real server cannot do; ``real_fall_trial`` tips it over with
-its own motors instead, and runs on either plant).
+``NetworkWalkController``) or, without one, holding the motion's end pose. The plant is
+``LocalServer`` (the robot is put in place with ``set_robot_pose``, which the real server
+cannot do; ``real_fall_trial`` tips it over with its own motors instead, and runs on either
+plant).
 
 Reported: whether it was up when the motion was done, the time from the start of the motion
 to the first cycle it was up and stayed up until the motion was done (``time_to_up``), and
