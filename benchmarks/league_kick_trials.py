@@ -13,7 +13,7 @@ travel and heading come from the simulation's ground truth when it has stopped (
 measurement in docs/league.md uses seeds 3000-3099, which none of that saw.
 
 Printed: trials, how many kicked (reached the spot within 12 s and started the kick), how
-many of those struck (a kick whose strike never began ends after 1.5 s), mean / median ball
+many of those struck (a kick whose strike never began ends after 3 s), mean / median ball
 travel (m, every kick counted, also those without a strike), direction error mean and s.d.
 (deg), upright after the kick (%), falls during it, kick duration (start to the end of the
 motion, 0.4 s after the strike began) mean / max / share within 1.5 s, approach time.

@@ -85,7 +85,7 @@ class KickParams:
     strike_to: float = 0.75
     follow_s: float = 0.4
     follow_vx: float = 0.0
-    max_wait_s: float = 1.5
+    max_wait_s: float = 3.0
     aim_bias: float = 0.18
 
     def with_(self, **kw: float) -> KickParams:

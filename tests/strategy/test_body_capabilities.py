@@ -52,7 +52,7 @@ def test_capabilities_are_the_profiles_numbers():
         assert body.forward_speed(0.0) == 0.0
     # the league client's body (benchmarks/calibrate_t1_league.py): its own kick and walk
     league = body_capabilities("t1_league")
-    assert league.kick_distance_mean_m == pytest.approx(4.859)
+    assert league.kick_distance_mean_m == pytest.approx(5.062)
     assert league.forward_speed(1.2) == pytest.approx(1.068)
     assert league.kick_distance_mean_m < body_capabilities("t1_mj").kick_distance_mean_m
 

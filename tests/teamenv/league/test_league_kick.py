@@ -169,6 +169,22 @@ def test_a_kick_from_standing_sends_the_ball_3m_ahead_and_stays_up():
     assert r.upright and not r.fell_during
 
 
+def test_a_kick_started_close_behind_the_ball_waits_for_its_strike():
+    """0.35 m straight behind the ball (where a kick-off taker stands) the kick's walker needs
+    more than one kicking-foot swing to bring the ball into line; a kick that gave up after
+    1.5 s only nudged the ball (0 m here), and a retouch at a kick-off is a foul."""
+    _local()
+    from teamenv.league.kick_trial import BALL, kick_trial
+    from teamenv.league.network_walk import NetworkWalkController
+
+    r = kick_trial((BALL[0] - 0.35, BALL[1], 0.0), 0.0, walker=NetworkWalkController(),
+                   settle_s=3.0)
+    assert r.kicked and r.strike_ball_x is not None
+    assert r.kick_s > 1.5                                # struck on a later swing
+    assert r.travel >= 2.0
+    assert r.upright and not r.fell_during
+
+
 def test_a_kick_asked_left_goes_left_of_one_asked_right():
     _local()
     from teamenv.league.kick_trial import BALL, kick_trial
