@@ -16,6 +16,10 @@ Sources, each optional (a parameter without a source keeps its value and provena
   accuracy as the share within the profile's ``kick_accuracy_half_angle``;
 - **kick reach** (``--kick-reach``): the far corner of the league kick's start spot (the
   ball's farthest place from which the kick starts without backing away first);
+- **kick angle** (``--kick-angle FILE``, from ``benchmarks/league_kick_angle.py --out``): the
+  largest angle off the heading at which the kick, approached from beside the ball, still
+  strikes with the robot up (``kick_max_angle``; the team then walks round the ball itself
+  for kicks further off);
 - **get-up**: a trial file of ``benchmarks/league_getup_trials.py --json``: with successes, the
   mean time to up; with none, the referee's rule stays (a robot that lay 15 s is stood up);
 - **falls and get-up time in matches**: league replays (``teamenv league-tournament
@@ -160,6 +164,19 @@ def kick_reach_parameter() -> dict[str, dict]:
                   f"ahead, foot_y {LEAGUE_KICK.foot_y} + {SPOT_TOLERANCE_Y} beside)"}}
 
 
+def kick_angle_parameter(path: Path) -> dict[str, dict]:
+    summary = json.loads(Path(path).read_text())["summary"]
+    per = summary["per_offset"]
+    shown = ", ".join(f"{float(k):.2f}: {v['counted']}/{v['trials']}" for k, v in per.items())
+    return {"kick_max_angle": {
+        "value": float(summary["kick_max_angle"]), "unit": "rad", "kind": "measured",
+        "source": f"{SCRIPT} --kick-angle: the largest offset between heading and kick "
+                  f"direction whose kick trials (benchmarks/league_kick_angle.py, "
+                  f"{Path(path).name}; LocalServer, the network walking the approach from "
+                  f"0.35-0.6 m behind the ball) struck with the robot up in at least "
+                  f"{summary['pass_share']:.0%} (struck and up, by offset in rad: {shown})"}}
+
+
 def getup_parameters(path: Path) -> dict[str, dict]:
     rows = json.loads(Path(path).read_text())
     ok = [r for r in rows if r.get("success") and r.get("time_to_up") is not None]
@@ -225,11 +242,14 @@ def update_profile(profile: dict[str, Any], params: dict[str, dict],
     """``profile`` with ``params`` replacing its parameters (each keeps a note of what it
     replaced) and ``measurements`` added to ``measurements['league_client']`` (each kind
     replacing the same kind measured before)."""
+    from locomotion.profile import OPTIONAL_PARAMETERS
+
     out = json.loads(json.dumps(profile))
     for name, entry in params.items():
-        if name not in out["parameters"]:
+        if name not in out["parameters"] and name not in OPTIONAL_PARAMETERS:
             raise SystemExit(f"profile has no parameter {name!r}")
-        old = out["parameters"][name]
+        value, kind, _ = OPTIONAL_PARAMETERS.get(name, (None, None, None))
+        old = out["parameters"].get(name, {"value": value, "kind": kind})
         entry = dict(entry)
         entry["note"] = f"replaces {old.get('value')!r} ({old.get('kind')})"
         out["parameters"][name] = entry
@@ -254,6 +274,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--kicks", nargs="*", default=[], help="league_kick_trials.py --out files")
     ap.add_argument("--kick-reach", action="store_true",
                     help="the kick reach from the league kick's start spot")
+    ap.add_argument("--kick-angle", default=None, help="league_kick_angle.py --out file")
     ap.add_argument("--getup", default=None, help="league_getup_trials.py --json file")
     ap.add_argument("--replays", default=None, help="a folder of league match replays")
     ap.add_argument("--dry-run", action="store_true", help="print, write nothing")
@@ -273,6 +294,8 @@ def main(argv: list[str] | None = None) -> int:
         params |= kick_parameters([Path(p) for p in args.kicks], half)
     if args.kick_reach:
         params |= kick_reach_parameter()
+    if args.kick_angle:
+        params |= kick_angle_parameter(Path(args.kick_angle))
     if args.getup:
         params |= getup_parameters(Path(args.getup))
     if args.replays:
@@ -298,6 +321,8 @@ def main(argv: list[str] | None = None) -> int:
                          "approach")
         if "kick_reach" in regenerated:
             parts.append("kick reach from the league kick's start spot")
+        if "kick_max_angle" in regenerated:
+            parts.append("the kick's largest angle off the heading from kick trials")
         if "getup_duration" in regenerated:
             parts.append("get-up time from " + (
                 "league matches" if "league matches" in

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -66,7 +67,9 @@ class Bodies:
     * **Kicks.** A request with power > 0 from a player that can act starts the kick; the
       player stands still for ``kick_duration``; contact happens ``kick_prep_time`` after the
       request. Distance = power x truncated normal(mean, std) in [min, max]; direction =
-      aim + normal(0, ``profile.kick_direction_std``).
+      aim + normal(0, ``profile.kick_direction_std``). A request aimed more than
+      ``kick_max_angle`` off the heading does not start (a forward-kicking body turns, or
+      walks round the ball, first; at pi, the default, every aim starts).
     * **Odometry.** ``odometry = delta_pose * odometry_scale * (1 + odometry_noise * N(0,1))``
       per channel (seed 000 eqs. 2-3: the engine over-reports when the feet slip).
 
@@ -101,6 +104,8 @@ class Bodies:
         self._j_hi = p.impact_fall_impulse_high
         self._down_time = p.fall_duration + p.getup_duration
         self._kick_sigma = p.kick_direction_std
+        # None: every aim kicks (the omnidirectional kick; no extra work per kick)
+        self._kick_max_angle = p.kick_max_angle if p.kick_max_angle < math.pi else None
         self._odo_scale = np.asarray(p.odometry_scale, dtype=np.float64)
         self._odo_noise = np.asarray(p.odometry_noise, dtype=np.float64)
         self._odo_noisy = bool(np.any(self._odo_noise > 0))
@@ -295,6 +300,9 @@ class Bodies:
         if not (self._n_kicking or np.count_nonzero(kick_request)):
             return self._all_false, False
         start = kick_request & (kick_power > 0.0) & (self.kick_elapsed < 0.0)
+        if self._kick_max_angle is not None:
+            off = np.abs(np.remainder(kick_dir + math.pi, 2.0 * math.pi) - math.pi)
+            start &= off <= self._kick_max_angle
         if any_down:
             start &= up
         if fell_any:

@@ -151,6 +151,15 @@ PARAMETERS: dict[str, tuple[Any, str, float, float, bool, str]] = {
         True,
         "half-angle that counts as accurate",
     ),
+    "kick_max_angle": (
+        (),
+        "rad",
+        0.0,
+        math.pi,
+        True,
+        "largest angle between the heading and a kick's direction that the body kicks from "
+        "where it stands (beyond it: turn, or walk round the ball, first)",
+    ),
     "odometry_scale": (
         (3,),
         "1",
@@ -162,6 +171,12 @@ PARAMETERS: dict[str, tuple[Any, str, float, float, bool, str]] = {
     "odometry_noise": ((3,), "1", 0.0, 10.0, False, "relative std of odometry per channel"),
     "body_radius": ((), "m", 0.0, 2.0, True, "radius of the body's 2D collision disc"),
     "mass": ((), "kg", 0.0, 500.0, True, "robot mass"),
+}
+#: parameters a profile may leave out (files written before they existed): the value, kind
+#: and source used then
+OPTIONAL_PARAMETERS: dict[str, tuple[float, str, str]] = {
+    "kick_max_angle": (math.pi, "hand-entered",
+                       "not in this profile: kicks in any direction (the env's kick model)"),
 }
 _TOP_KEYS = {"format", "version", "name", "robot", "description", "parameters", "measurements"}
 _REQUIRED_TOP = {"format", "version", "name", "robot", "description", "parameters"}
@@ -206,6 +221,7 @@ class Profile:
     kick_distance_max: float
     kick_accuracy: float
     kick_accuracy_half_angle: float
+    kick_max_angle: float
     odometry_scale: np.ndarray
     odometry_noise: np.ndarray
     body_radius: float
@@ -355,6 +371,9 @@ def profile_from_dict(data: Any, label: str = "<dict>", path: str | None = None)
     kinds: dict[str, str] = {}
     for key, spec in PARAMETERS.items():
         fq = f"parameters.{key}"
+        if key not in params and key in OPTIONAL_PARAMETERS:
+            values[key], kinds[key], sources[key] = OPTIONAL_PARAMETERS[key]
+            continue
         if key not in params:
             raise ProfileError(label, fq, None, f"missing ({spec[5]}, {spec[1]})")
         entry = params[key]

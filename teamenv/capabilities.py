@@ -42,6 +42,9 @@ class BodyCapabilities:
         kick_aim_sd_rad: standard deviation of the kick direction about the aim.
         kick_prep_s: from the kick request to foot-ball contact.
         kick_duration_s: the whole kick, request to standing again (the kicker is busy).
+        kick_max_angle_rad: the largest angle between the heading and a kick's direction
+            that the body kicks from where it stands (pi: any direction); a kick aimed
+            further off does not start (the body must turn, or walk round the ball, first).
         fall_s: from losing balance to lying on the ground.
         getup_s: from lying to standing again.
         body_radius: the body's 2D collision disc.
@@ -65,6 +68,7 @@ class BodyCapabilities:
     kick_aim_sd_rad: float
     kick_prep_s: float
     kick_duration_s: float
+    kick_max_angle_rad: float
     fall_s: float
     getup_s: float
     body_radius: float
@@ -103,6 +107,7 @@ def body_capabilities(profile: Any) -> BodyCapabilities:
         kick_distance_max_m=float(p.kick_distance_max),
         kick_aim_sd_rad=float(p.kick_direction_std),
         kick_prep_s=float(p.kick_prep_time), kick_duration_s=float(p.kick_duration),
+        kick_max_angle_rad=float(p.kick_max_angle),
         fall_s=float(p.fall_duration), getup_s=float(p.getup_duration),
         body_radius=float(p.body_radius),
     )

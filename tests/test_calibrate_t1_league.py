@@ -126,3 +126,24 @@ def test_a_run_without_the_walk_keeps_the_walk_measured_before():
     assert updated["measurements"]["league_client"] == {"walk": {"trials": 3},
                                                         "falls": {"falls": 7}}
     assert profile["measurements"]["league_client"] == {"walk": {"trials": 3}}   # not mutated
+
+
+def test_the_kick_angle_is_the_largest_offset_whose_kicks_pass(tmp_path):
+    ka = load_benchmark("league_kick_angle")
+    counted = {0.0: 12, 0.25: 11, 0.5: 12, 0.75: 9, 1.0: 12}     # 1.0 passes, after a fail
+    rows = [{"offset": o, "struck": k < n, "upright": True, "travel": 1.0, "approach_s": 2.0}
+            for o, n in counted.items() for k in range(12)]
+    summary = ka.summary(rows)
+    assert summary["kick_max_angle"] == 0.5                      # 0.75: 9/12 < 85 %
+    path = tmp_path / "angle.json"
+    path.write_text(json.dumps({"summary": summary, "rows": rows}))
+    params = cal.kick_angle_parameter(path)
+    # a profile written before the parameter existed gets it
+    profile = json.loads(cal.PROFILE.read_text())
+    profile["parameters"].pop("kick_max_angle")
+    updated = cal.update_profile(profile, params, {})
+    out = tmp_path / "t1_league.json"
+    out.write_text(json.dumps(updated))
+    assert load_profile(out).kick_max_angle == 0.5
+    assert "0.75: 9/12" in updated["parameters"]["kick_max_angle"]["source"]
+    assert updated["parameters"]["kick_max_angle"]["note"].startswith("replaces 3.14")

@@ -22,7 +22,8 @@ class Skills:
         body: what the body can do (``TeamContext.body``: walk range and real speeds, kick
             reach, distance and spread, kick and get-up times), from the locomotion profile.
         kick_max_angle: kicks are aimed at most this far from the body's heading, radians (a
-            humanoid kicks forwards; it does not kick behind itself).
+            humanoid kicks forwards; it does not kick behind itself); never more than the
+            body can (``body.kick_max_angle_rad``, from the locomotion profile).
         navigation: potential-field and walk-controller gains.
         ball_roll: the ball's drag model (where a rolling ball stops).
         ball_radius: the ball's radius, metres.
@@ -40,6 +41,9 @@ class Skills:
     walk_high: NDArray[np.float64] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
+        # a strategy may choose narrower kicks than its body's, never wider
+        object.__setattr__(self, "kick_max_angle",
+                           min(self.kick_max_angle, self.body.kick_max_angle_rad))
         object.__setattr__(self, "walk_low", np.asarray(self.body.walk_low, dtype=np.float64))
         object.__setattr__(self, "walk_high", np.asarray(self.body.walk_high, dtype=np.float64))
 

@@ -360,3 +360,17 @@ def test_bad_constructor(t1) -> None:
         Bodies(t1, 0)
     with pytest.raises(StepInputError, match="profile"):
         Bodies("t1_mj", 3)  # type: ignore[arg-type]
+
+
+def test_a_kick_aimed_beyond_kick_max_angle_does_not_start(t1) -> None:
+    p = dataclasses.replace(t1, kick_prep_time=0.0, kick_max_angle=0.5)
+    aims = np.array([0.3, -0.45, 1.0, -2.5, 2 * np.pi + 0.3])   # the last wraps to 0.3
+    b = Bodies(p, len(aims))
+    res = _run(b, [0, 0, 0], 2, kick=lambda i: (np.full(len(aims), i == 0),
+                                                np.ones(len(aims)), aims))
+    assert res[0].kick_now.tolist() == [True, True, False, False, True]
+    # the omnidirectional default starts every aim
+    b = Bodies(dataclasses.replace(t1, kick_prep_time=0.0), len(aims))
+    res = _run(b, [0, 0, 0], 1, kick=lambda i: (np.ones(len(aims), bool),
+                                                np.ones(len(aims)), aims))
+    assert res[0].kick_now.all()

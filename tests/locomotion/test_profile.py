@@ -129,3 +129,27 @@ def test_profile_is_immutable() -> None:
         p.command_high[0] = 9.0
     with pytest.raises(AttributeError):
         p.mass = 1.0  # type: ignore[misc]
+
+
+def test_a_profile_without_kick_max_angle_kicks_in_any_direction() -> None:
+    d = _raw()
+    d["parameters"].pop("kick_max_angle")
+    p = profile_from_dict(d)
+    assert p.kick_max_angle == pytest.approx(np.pi)
+    assert p.kinds["kick_max_angle"] == "hand-entered"
+    assert "not in this profile" in p.sources["kick_max_angle"]
+
+
+def test_kick_max_angle_out_of_range_is_named() -> None:
+    d = _raw()
+    d["parameters"]["kick_max_angle"]["value"] = 4.0
+    with pytest.raises(ProfileError, match=r"parameters\.kick_max_angle' = 4\.0.*out of range"):
+        profile_from_dict(d)
+
+
+def test_the_league_t1_kicks_only_near_its_heading() -> None:
+    # measured (benchmarks/league_kick_angle.py): the league kick walks round the ball badly
+    league = load_profile("t1_league")
+    assert league.kinds["kick_max_angle"] == "measured"
+    assert 0.0 < league.kick_max_angle < 1.5
+    assert load_profile("t1_mj").kick_max_angle == pytest.approx(np.pi)

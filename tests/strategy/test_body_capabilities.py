@@ -166,3 +166,24 @@ def test_no_strategy_module_defines_a_kick_distance_or_body_speed():
                 offenders.append(f"{path.relative_to(STRATEGY.parent)}:{node.lineno} "
                                  f"literal {node.value}")
     assert not offenders, offenders
+
+
+def test_a_team_asks_for_no_kick_its_body_cannot_start():
+    """The league T1 kicks only near its heading (``t1_league``'s ``kick_max_angle``): with
+    the ball at its feet and the goal 2 rad off its heading, the team walks round the ball instead of
+    asking for the kick, which it asks for with the env's omnidirectional body."""
+    from strategy.behaviours.ball import kick_to
+    from strategy.behaviours.skills import Skills
+    from teamenv.field import field_preset
+    from tests.strategy.scenes import world
+
+    heading = 2.0                                          # the goal 2 rad to the right
+    wm = world(position=(0.0, 0.0), heading=heading, field="mj7v7",
+               ball=(0.3 * math.cos(heading), 0.3 * math.sin(heading)))
+    goal = (field_preset("mj7v7").half_length, 0.0)
+    league = Skills(field_preset("mj7v7"), body_capabilities("t1_league"), kick_max_angle=3.1)
+    env_body = Skills(field_preset("mj7v7"), body_capabilities("t1_mj"), kick_max_angle=3.1)
+    assert league.kick_max_angle == load_profile("t1_league").kick_max_angle < 3.1
+    assert env_body.kick_max_angle == 3.1              # the strategy's own choice, narrower
+    assert kick_to(wm, goal, env_body).kick is not None
+    assert kick_to(wm, goal, league).kick is None
