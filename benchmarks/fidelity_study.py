@@ -67,9 +67,10 @@ def _ranking_module():
 def env_options(seconds: float, team_size: int, profile: str):
     from teamenv.match import MatchOptions
 
+    # the league's rules, its double-touch rule included (every league server applies it)
     return MatchOptions(field="mj7v7", team_size=team_size, half_time_s=seconds, halves=1,
                         observation_mode="vision", vision="mj", channel="mj",
-                        locomotion_profile=profile)
+                        locomotion_profile=profile, double_touch=True)
 
 
 def play(args: argparse.Namespace) -> None:

@@ -151,15 +151,10 @@ PARAMETERS: dict[str, tuple[Any, str, float, float, bool, str]] = {
         True,
         "half-angle that counts as accurate",
     ),
-    "kick_max_angle": (
-        (),
-        "rad",
-        0.0,
-        math.pi,
-        True,
-        "largest angle between the heading and a kick's direction that the body kicks from "
-        "where it stands (beyond it: turn, or walk round the ball, first)",
-    ),
+    "kick_max_angle": ((), "rad", 0.0, math.pi, True,
+                       "largest angle between the heading and a kick's direction that the "
+                       "body kicks from where it stands (beyond it: turn, or walk round the "
+                       "ball, first)"),
     "odometry_scale": (
         (3,),
         "1",

@@ -14,6 +14,14 @@ from teamenv.landmarks import LANDMARK_KINDS
 T = TypeVar("T")
 
 
+#: the set plays whose taker may not touch the ball again before another player has, under
+#: the league's double-touch rule (rcsssmj's ``soccer_referee``: kick-off, throw-in, corner
+#: kick and free kicks; not the goal kick)
+NO_SECOND_TOUCH = ("KickOff", "KickIn", "CornerKick")
+#: a taker's touch within this long (s) of its first is the same touch (rcsssmj)
+DOUBLE_TOUCH_S = 1.0
+
+
 @dataclass(frozen=True)
 class RulesConfig:
     """Referee rules (seconds of game time, metres)."""
@@ -26,6 +34,11 @@ class RulesConfig:
     set_play_timeout_s: float = field(default=15.0, metadata=positive())
     set_play_distance: float = field(default=2.0, metadata=positive())
     change_sides_at_half_time: bool = False
+    #: the league's (rcsssmj) double-touch rule: after a kick-off, kick-in or corner kick of a
+    #: team of more than one player, the taker's next touch before anyone else's, more than
+    #: ``DOUBLE_TOUCH_S`` after its first, is a foul: a kick-in for the other side where the
+    #: ball lies (the league's indirect free kick; ``NO_SECOND_TOUCH`` names the set plays)
+    double_touch: bool = False
     beam_noise_xy: float = field(default=0.05, metadata=non_negative())
     beam_noise_rot: float = field(default=0.05, metadata=non_negative())
 

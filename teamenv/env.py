@@ -234,7 +234,8 @@ class SoccerParallelEnv(ParallelEnv):
         self.team_host = TeamHost(
             {"left": (left, left_config), "right": (right, right_config)},
             lambda side: team_context(side, n, self.field, profile, self.physics,
-                                      channel_profile.name, self.obs_mode),
+                                      channel_profile.name, self.obs_mode,
+                                      self.rules.double_touch),
             self._row,
             ActionParser(self.field, profile.command_low, profile.command_high,
                          self.sim.channel, "dict", True),

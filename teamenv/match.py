@@ -28,7 +28,8 @@ class MatchOptions:
     """How a match is played (field preset, team size, half length in seconds, ...).
 
     ``observation_mode`` is "state" or "vision"; ``vision`` names the vision profile
-    ("simspark" or "mj"; None = "simspark") and is given only in vision mode.
+    ("simspark" or "mj"; None = "simspark") and is given only in vision mode;
+    ``double_touch``: the league's double-touch rule (``RulesConfig.double_touch``).
     """
 
     field: str = "simspark"
@@ -39,6 +40,7 @@ class MatchOptions:
     channel: str = "simspark"
     locomotion_profile: str = DEFAULT_LOCOMOTION_PROFILE
     vision: str | None = None
+    double_touch: bool = False
 
     @staticmethod
     def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -73,13 +75,17 @@ class MatchOptions:
                             help="how the bodies move: a shipped profile "
                                  f"({' | '.join(locomotion.PROFILES.names())}) or a JSON "
                                  f"path (default {d.locomotion_profile})")
+        parser.add_argument("--double-touch", action="store_true",
+                            help="the league's double-touch rule: a set play's taker may not "
+                                 "touch the ball again before another player has")
 
     @classmethod
     def from_arguments(cls, args: argparse.Namespace) -> MatchOptions:
         """The options of parsed ``add_arguments`` flags."""
         return cls(field=args.field, team_size=args.team_size, half_time_s=args.half_time,
                    halves=args.halves, observation_mode=args.observation, channel=args.channel,
-                   locomotion_profile=args.locomotion_profile, vision=args.vision)
+                   locomotion_profile=args.locomotion_profile, vision=args.vision,
+                   double_touch=args.double_touch)
 
     @classmethod
     def from_dict(cls, values: Mapping[str, Any]) -> MatchOptions:
@@ -90,16 +96,20 @@ class MatchOptions:
         (field, team size, rules, observation mode, vision, channel, locomotion profile): the
         one translation of options into an env, for matches, tournaments and the optimizer."""
         return dict(field=self.field, team_size=self.team_size,
-                    rules=RulesConfig(half_time_s=self.half_time_s, halves=self.halves),
+                    rules=RulesConfig(half_time_s=self.half_time_s, halves=self.halves,
+                                      double_touch=self.double_touch),
                     observation_mode=self.observation_mode, vision=self.vision,
                     channel=self.channel, locomotion_profile=self.locomotion_profile)
 
     def to_dict(self) -> dict[str, Any]:
-        """The options as a dict; ``vision`` only when set, so the match keys and stored
-        definitions of tournaments made before the option existed stay what they were."""
+        """The options as a dict; ``vision`` only when set and ``double_touch`` only when on,
+        so the match keys and stored definitions of tournaments made before the options
+        existed stay what they were."""
         out = asdict(self)
         if out["vision"] is None:
             del out["vision"]
+        if not out["double_touch"]:
+            del out["double_touch"]
         return out
 
 

@@ -52,6 +52,9 @@ class TeamContext:
         vision: the vision profile's name ("simspark" or "mj"), None in ``state`` mode.
         landmark_kind: the landmark table the sightings' ``landmarks`` rows follow
             (``teamenv.landmarks.landmarks(field, landmark_kind)``), None in ``state`` mode.
+        double_touch: the league's double-touch rule is in force (``RulesConfig.double_touch``,
+            always on the league server): a set play's taker may not touch the ball again
+            before another player has.
     """
 
     side: str
@@ -69,6 +72,7 @@ class TeamContext:
     perception: PerceptionConfig | None = None
     vision: str | None = None
     landmark_kind: str | None = None
+    double_touch: bool = False
     extra: Mapping[str, Any] = field(default_factory=dict)
 
     @property
@@ -89,11 +93,13 @@ class TeamContext:
 
 def team_context(side: str, team_size: int, field: FieldSpec, profile: Any,
                  physics: PhysicsConfig, channel: str,
-                 obs_mode: ObservationMode = STATE_MODE) -> TeamContext:
+                 obs_mode: ObservationMode = STATE_MODE,
+                 double_touch: bool = False) -> TeamContext:
     """The context the env gives team ``side``: agents ``{side}_1`` ..., the body's
     capabilities of locomotion ``profile`` (``teamenv.capabilities.body_capabilities``), the
-    cycle, ball size and drag of ``physics``, and what the agents observe (``obs_mode``: in
-    ``vision`` mode its profile name, camera and landmark table)."""
+    cycle, ball size and drag of ``physics``, what the agents observe (``obs_mode``: in
+    ``vision`` mode its profile name, camera and landmark table) and whether the
+    double-touch rule is in force."""
     perception = obs_mode.perception
     return TeamContext(side=side, agents=tuple(f"{side}_{k + 1}" for k in range(team_size)),
                        team_size=team_size, field=field, cycle_s=physics.cycle_s,
@@ -102,7 +108,8 @@ def team_context(side: str, team_size: int, field: FieldSpec, profile: Any,
                        ball_linear_drag=physics.ball_linear_drag,
                        ball_rolling_decel=physics.ball_rolling_decel,
                        perception=perception, vision=obs_mode.vision,
-                       landmark_kind=perception.landmark_kind if obs_mode.is_vision else None)
+                       landmark_kind=perception.landmark_kind if obs_mode.is_vision else None,
+                       double_touch=double_touch)
 
 
 @runtime_checkable

@@ -26,6 +26,7 @@ from strategy.behaviours.kick_choice import MIN_SHOT_CHANCE, best_kick
 from strategy.behaviours.motion import Hold, detour, go_to, resolve_holds
 from strategy.decision.params import DecisionParams
 from strategy.decision.setplays import (
+    TOUCH_MARGIN_M,
     Situation,
     keep_distance,
     set_play_taker,
@@ -34,6 +35,7 @@ from strategy.decision.setplays import (
 )
 from strategy.perception.worldmodel import WorldModel, shared, shared_rows
 from strategy.positioning import PositioningDecision
+from teamenv.config import NO_SECOND_TOUCH  # the set plays the double-touch rule covers
 
 MOVING_BALL_M_S = 1.0
 """Faster than this the ball is rolling (a kick), not being pushed in a dribble: players are
@@ -57,9 +59,17 @@ class FieldPlayerDecisionMaker:
         self.goalie = goalie
         self.memo = memo  # team-wide facts shared by teammates who believe the same
         self.ball_players: dict[int, int] = {}  # agent index -> the ball player it chose
+        #: the league's double-touch rule is in force (``TeamContext.double_touch``): after
+        #: our kick-off, kick-in or corner the taker leaves the ball to the others until
+        #: another player has reached it
+        self.double_touch = False
+        self._taking: dict[int, int] = {}           # agent -> the taker of our set play now
+        self.no_second_touch: dict[int, int] = {}   # agent -> the taker it keeps off the ball
 
     def reset(self) -> None:
         self.ball_players.clear()
+        self._taking.clear()
+        self.no_second_touch.clear()
 
     def decide(self, wm: WorldModel, positioning: PositioningDecision) -> ControlRequest:
         """One agent's request (``plan_all`` with n = 1, its hold resolved)."""
@@ -86,6 +96,8 @@ class FieldPlayerDecisionMaker:
 
     def _set_piece(self, wm: WorldModel,
                    positioning: PositioningDecision) -> ControlRequest | Hold:
+        self._taking.pop(wm.me, None)
+        self.no_second_touch.pop(wm.me, None)
         now = situation(wm.play_mode)
         if now is Situation.BEAM:
             self.ball_players.pop(wm.me, None)
@@ -97,6 +109,8 @@ class FieldPlayerDecisionMaker:
             return self.keep_away(wm, positioning, kickoff=now is Situation.THEIR_KICKOFF)
         taker = set_play_taker(wm, wm.play_mode, self.goalie)  # ours: a kick-off or set play
         self.ball_players[wm.me] = taker
+        if self.double_touch and wm.play_mode.kind in NO_SECOND_TOUCH:
+            self._taking[wm.me] = taker
         if taker == wm.me:
             return take_set_play(wm, self.skills, self.config.pass_max_m,
                                  self.config.pass_lane_m)
@@ -173,13 +187,41 @@ class FieldPlayerDecisionMaker:
     def choose_ball_players(self, wms: Sequence[WorldModel]) -> np.ndarray:
         """(n,) for each agent, the upright teammate who can be at the ball first (the goalie
         only if nobody else is upright); the agent's previous ball player keeps it unless
-        beaten by the hysteresis margin. One pass over (agents x teammates)."""
+        beaten by the hysteresis margin. One pass over (agents x teammates). Under the
+        double-touch rule the taker of our last set play is nobody's ball player until another
+        player has reached the ball (``keeps_off_the_ball``)."""
         d = shared_rows(self.memo, "field_reach", wms, self._field_reach)
+        if self.double_touch:
+            for row, wm in enumerate(wms):
+                taker = self.keeps_off_the_ball(wm)
+                if taker is not None and np.isfinite(np.delete(d[row], taker)).any():
+                    d[row, taker] = np.inf
         prev = np.array([self.ball_players.get(wm.me, -1) for wm in wms])
         rows = np.flatnonzero(prev >= 0)
         rows = rows[np.isfinite(d[rows, prev[rows]])]
         d[rows, prev[rows]] -= self.config.ball_player_hysteresis_m
         return d.argmin(axis=1)
+
+    def keeps_off_the_ball(self, wm: WorldModel) -> int | None:
+        """The teammate agent ``wm.me`` keeps off the ball under the double-touch rule: the
+        taker of the set play that just ended, until another player (teammate or opponent)
+        has come within touching distance of the ball in this agent's belief. Touches are
+        not observed, so reaching the ball stands for touching it."""
+        taker = self._taking.pop(wm.me, None)
+        if taker is not None:
+            self.no_second_touch[wm.me] = taker     # our set play was taken: play on
+        taker = self.no_second_touch.get(wm.me)
+        if taker is None:
+            return None
+        near = self.skills.contact_m + TOUCH_MARGIN_M
+        mates = np.hypot(*(wm.teammates - wm.ball).T) < near
+        mates &= wm.teammates_present
+        mates[taker] = False
+        opps = (np.hypot(*(wm.opponents - wm.ball).T) < near) & wm.opponents_present
+        if mates.any() or opps.any():
+            del self.no_second_touch[wm.me]
+            return None
+        return taker
 
     def _field_reach(self, wm: WorldModel) -> np.ndarray:
         d = self.ball_reach(wm)

@@ -57,6 +57,10 @@ def we_kick_off_next(mode: PlayMode, half: int, side: str) -> bool:
     return (side == "left") == (half == 1)
 
 
+#: a player this much (m) beyond touching distance of the ball has not touched it yet
+TOUCH_MARGIN_M = 0.15
+
+
 def set_play_taker(wm: WorldModel, mode: PlayMode, goalie: int | None) -> int:
     """Our player who takes the set play ``mode``: the goalie takes goal kicks (when upright);
     otherwise the upright field player closest to the ball (lowest index on a tie)."""

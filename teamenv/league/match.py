@@ -138,14 +138,15 @@ def start_poses(team_size: int) -> list[tuple[float, float, float]]:
 
 def team_context(side: str, team_size: int) -> TeamContext:
     """What a team is told: the env's context for ``vision`` mode, ``mj`` profile and channel,
-    on ``mj7v7`` (walk range and kick reach of the ``t1_mj`` profile, the env's ball drag)."""
+    on ``mj7v7`` (the body of the ``t1_league`` profile, the env's ball drag), under the
+    server's double-touch rule."""
     from locomotion import load_profile
     from teamenv.config import PhysicsConfig
     from teamenv.field import field_preset
 
     return env_team_context(side, team_size, field_preset(FIELD),
                             load_profile(LOCOMOTION_PROFILE), PhysicsConfig(), "mj",
-                            ObservationMode.build("vision", "mj"))
+                            ObservationMode.build("vision", "mj"), double_touch=True)
 
 
 @dataclass

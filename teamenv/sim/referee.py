@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from teamenv.config import RulesConfig
+from teamenv.config import DOUBLE_TOUCH_S, NO_SECOND_TOUCH, RulesConfig
 from teamenv.field import FieldSpec
 from teamenv.sim.playmode import SET_PLAYS, PlayMode
 from teamenv.sim.world import World
@@ -17,7 +17,7 @@ from teamenv.sim.world import World
 class RefereeEvent:
     """Something the referee decided: a goal, a play-mode change, a drop ball, half time."""
 
-    kind: str  # "goal", "play_mode", "drop_ball", "half_time", "game_over"
+    kind: str  # "goal", "play_mode", "drop_ball", "half_time", "game_over", "double_touch"
     time_s: float
     team: int | None = None
     player: int | None = None  # player index (goals: the last toucher)
@@ -48,6 +48,8 @@ class Referee:
         self.last_touch: int | None = None
         self.set_play_spot: tuple[float, float] = (0.0, 0.0)
         self.kickoff_team = 0
+        #: (player, game time of its first touch): a set play's taker, until another touches
+        self.no_second_touch: tuple[int, float] | None = None
 
     # -- queries ---------------------------------------------------------------------------
     @property
@@ -116,8 +118,10 @@ class Referee:
             if mode_s >= self.rules.goal_pause_s - 1e-9:
                 self._start_kickoff(world, 1 - owner, events)
         elif kind == "KickOff" or kind in SET_PLAYS:
-            taken = any(self.team_of[p] == owner for p in touchers)
+            taken = [p for p in touchers if self.team_of[p] == owner]
             if taken:
+                if self.rules.double_touch and self.team_size > 1 and kind in NO_SECOND_TOUCH:
+                    self.no_second_touch = (taken[0], self.time_s)
                 self._set_mode(PlayMode.PlayOn, events)
                 self._check_ball(world, events)
             else:
@@ -131,8 +135,32 @@ class Referee:
                 else:
                     self._keep_opponents_away(world, owner, kickoff=(kind == "KickOff"))
         elif self.mode == PlayMode.PlayOn:
+            if self.no_second_touch is not None and touchers and \
+                    self._double_touch(world, touchers, events):
+                return events
             self._check_ball(world, events)
         return events
+
+    def _double_touch(self, world: World, touchers: list[int],
+                      events: list[RefereeEvent]) -> bool:
+        """Apply the double-touch rule to this cycle's touches; True if it was a foul."""
+        taker, since = self.no_second_touch  # type: ignore[misc]
+        for p in touchers:
+            if p != taker:
+                self.no_second_touch = None   # someone else touched it: the taker is free
+                return False
+            if self.time_s - since > DOUBLE_TOUCH_S + 1e-9:
+                self.no_second_touch = None
+                other = 1 - int(self.team_of[taker])
+                events.append(RefereeEvent("double_touch", self.time_s, int(self.team_of[taker]),
+                                           taker))
+                x, y = world.ball_state()[:2]
+                f = self.field
+                spot = (float(np.clip(x, -f.half_length, f.half_length)),
+                        float(np.clip(y, -f.half_width, f.half_width)))
+                self._start_set_play(world, "KickIn", other, spot, events)
+                return True
+        return False
 
     # -- rules -----------------------------------------------------------------------------
     def _half_ends(self) -> bool:
@@ -194,6 +222,8 @@ class Referee:
         self._keep_opponents_away(world, team, kickoff=True)
 
     def _set_mode(self, mode: PlayMode, events: list[RefereeEvent]) -> None:
+        if mode != PlayMode.PlayOn:
+            self.no_second_touch = None       # a new set play (or a goal) lifts the restriction
         if mode != self.mode:
             self.mode = mode
             self.mode_cycles = 0

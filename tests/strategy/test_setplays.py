@@ -273,3 +273,36 @@ def test_our_kickoff_is_kicked_by_us():
     assert ref.mode == PlayMode.PlayOn
     assert not any(e.kind == "drop_ball" for e in events)
     assert ref.last_touch is not None and ref.last_touch < 7
+
+
+def test_under_the_double_touch_rule_the_taker_leaves_the_ball_to_the_others():
+    """The league's rule: after our kick-off the taker may not touch the ball again before
+    another player has. With the rule in force (``TeamContext.double_touch``) the taker, who
+    kicked the ball 3 m ahead and is still the nearest, is nobody's ball player until a
+    teammate has reached the ball; without it, it chases its own kick."""
+    from strategy.decision.field_player import FieldPlayerDecisionMaker
+    from strategy.positioning import PositioningDecision
+    from strategy.teams.full_config import FullTeamConfig
+
+    from .scenes import skills, world
+
+    def decide(maker, mode, ball, mates):
+        wm = world(position=(-0.3, 0.0), ball=ball, teammates=mates, field="mj7v7",
+                   play_mode=mode, me=0)
+        hold = PositioningDecision(np.array([-0.3, 0.0]), 0, np.zeros(3, np.intp),
+                                   np.zeros(3, np.intp), np.zeros((3, 2)), "", 0.0)
+        maker.plan_all([wm], [hold])
+        return maker.ball_players[0]
+
+    mates = [(-6.0, 4.0), (-6.0, -4.0)]
+    for rule in (True, False):
+        maker = FieldPlayerDecisionMaker(FullTeamConfig().decision_params(), skills("mj7v7"),
+                                         goalie=None)
+        maker.double_touch = rule
+        assert decide(maker, PlayMode.KickOff_Left, (0.0, 0.0), mates) == 0   # we take it
+        after = decide(maker, PlayMode.PlayOn, (3.0, 0.0), mates)            # kicked 3 m
+        assert (after != 0) == rule
+        # a teammate reached the ball: the taker may play it again
+        reached = decide(maker, PlayMode.PlayOn, (3.0, 0.0), [(3.2, 0.0), (-6.0, -4.0)])
+        assert reached == 1
+        assert decide(maker, PlayMode.PlayOn, (6.0, 0.0), mates) == 0

@@ -64,7 +64,7 @@ def test_subcommand_usage_names_the_command(capsys):
 
 MATCH_FLAGS = ["--field", "mj7v7", "--team-size", "5", "--half-time", "40", "--halves", "1",
                "--observation", "vision", "--vision", "mj", "--channel", "mj",
-               "--locomotion-profile", "t1_league"]
+               "--locomotion-profile", "t1_league", "--double-touch"]
 
 
 @pytest.mark.parametrize("command", [["match", "full", "chaser"],
@@ -76,6 +76,6 @@ def test_every_match_playing_command_reads_the_same_match_options(command):
     args = build_parser().parse_args([*command, *MATCH_FLAGS])
     assert MatchOptions.from_arguments(args) == MatchOptions(
         field="mj7v7", team_size=5, half_time_s=40.0, halves=1, observation_mode="vision",
-        vision="mj", channel="mj", locomotion_profile="t1_league")
+        vision="mj", channel="mj", locomotion_profile="t1_league", double_touch=True)
     defaults = build_parser().parse_args(command)
     assert MatchOptions.from_arguments(defaults) == MatchOptions()

@@ -197,3 +197,73 @@ def test_max_cycles_truncates():
         _, _, terms, truncs, _ = env.step(idle(env))
     assert all(truncs.values()) and not any(terms.values())
     assert teamenv.PLAY_MODES[0] == "BeforeKickOff"
+
+
+
+def _kick_off_taken_by_left_2(env):
+    """KickOff_Left taken by left_2 (a touch of its own kick): PlayOn, left_2 the taker."""
+    step_until(env, lambda e: mode(e) == PlayMode.KickOff_Left)
+    env.sim.world.place_player(1, -0.25, 0.0, 0.0)
+    kick = {a: {} for a in env.agents}
+    kick["left_2"] = {"kick": np.array([0.3, 0.0], np.float32)}
+    step_until(env, lambda e: mode(e) == PlayMode.PlayOn, actions=lambda e: kick, max_steps=100)
+
+
+def _wait(env, seconds: float) -> None:
+    for _ in range(round(seconds / 0.02)):
+        env.step(idle(env))
+
+
+@pytest.mark.parametrize("rule", [True, False])
+def test_the_kick_off_takers_second_touch_is_a_double_touch_foul(rule):
+    """The league's rule (rcsssmj): the taker touching the ball again more than 1 s after its
+    first touch, before anyone else, gives the other side a free kick (our kick-in) where the
+    ball lies; without the rule play goes on."""
+    env = make_env(rules={"double_touch": rule})
+    _kick_off_taken_by_left_2(env)
+    ref = env.sim.referee
+    assert (ref.no_second_touch is not None) == rule
+    _wait(env, 1.2)
+    events = ref.update(env.sim.world, [1])             # left_2 touches it again
+    if rule:
+        assert [e.kind for e in events][:1] == ["double_touch"] and events[0].player == 1
+        assert mode(env) == PlayMode.KickIn_Right
+        assert ref.set_play_spot == pytest.approx(tuple(ball_xy(env)))
+    else:
+        assert mode(env) == PlayMode.PlayOn
+
+
+def test_a_second_touch_within_1s_or_after_another_players_is_no_foul():
+    env = make_env(rules={"double_touch": True})
+    _kick_off_taken_by_left_2(env)
+    ref = env.sim.referee
+    ref.update(env.sim.world, [1])                       # the same kick, within 1 s
+    assert mode(env) == PlayMode.PlayOn and ref.no_second_touch is not None
+    ref.update(env.sim.world, [0])                       # left_1 touched it: left_2 is free
+    assert ref.no_second_touch is None
+    _wait(env, 1.2)
+    ref.update(env.sim.world, [1])
+    assert mode(env) == PlayMode.PlayOn
+
+
+def test_the_double_touch_rule_spares_a_team_of_one():
+    env = make_env(team_size=1, rules={"double_touch": True})
+    step_until(env, lambda e: mode(e) == PlayMode.KickOff_Left)
+    env.sim.world.place_player(0, -0.25, 0.0, 0.0)
+    kick = {a: {} for a in env.agents}
+    kick["left_1"] = {"kick": np.array([0.3, 0.0], np.float32)}
+    step_until(env, lambda e: mode(e) == PlayMode.PlayOn, actions=lambda e: kick, max_steps=100)
+    assert env.sim.referee.no_second_touch is None
+
+
+def test_match_options_carry_the_double_touch_rule_to_the_env_and_its_teams():
+    from teamenv.match import MatchOptions
+
+    on = MatchOptions(field="mj7v7", team_size=3, double_touch=True)
+    env = teamenv.parallel_env(**on.env_kwargs(), left="full", right="static")
+    env.reset(seed=0)
+    assert env.sim.referee.rules.double_touch
+    assert env.team_host.teams["left"].context.double_touch
+    # stored options of matches without the rule keep their keys
+    assert "double_touch" not in MatchOptions().to_dict()
+    assert on.to_dict()["double_touch"] is True
