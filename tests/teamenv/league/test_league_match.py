@@ -74,10 +74,12 @@ def test_start_poses_are_the_envs():
 
 def test_team_context_and_seeds_are_the_envs():
     ScriptedTeam.contexts.clear()
-    # the env with the league bridge's body (its locomotion profile) gives the same contexts
+    # the env with the league bridge's body (its locomotion profile) and the league's
+    # double-touch rule gives the same contexts
     env = teamenv.parallel_env(field="mj7v7", team_size=2, observation_mode="vision", vision="mj",
                                channel="mj", left=SCRIPTED, right=SCRIPTED,
-                               locomotion_profile=LOCOMOTION_PROFILE)
+                               locomotion_profile=LOCOMOTION_PROFILE,
+                               rules={"double_touch": True})
     env.reset(seed=11)
     assert ScriptedTeam.contexts == [team_context("left", 2), team_context("right", 2)]
     assert env.teams["left"].seeds == [team_seeds(11)[0]]
