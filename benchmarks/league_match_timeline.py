@@ -74,9 +74,8 @@ def main(argv: list[str] | None = None) -> None:
             (int(c), int(p), round(float(m), 2))
             for c, p, m in zip(replay.kick_cycle, replay.kick_player, replay.kick_distance,
                                strict=True)])
-    dt = CYCLE_S   # one replay row per cycle
-    modes = Counter(int(m) for m in replay.play_mode)
-    print("seconds per play mode:", {PlayMode(m).name: round(c * dt, 1)
+    modes = Counter(int(m) for m in replay.play_mode)   # one replay row per cycle
+    print("seconds per play mode:", {PlayMode(m).name: round(c * CYCLE_S, 1)
                                      for m, c in modes.most_common()})
 
 

@@ -25,6 +25,9 @@ import sys
 from collections.abc import Callable
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from league_walk_playback import LowPass  # noqa: E402  (the sibling script)
+
 Command = tuple[float, float, float]
 RUN_S, FAST = 2.0, 1.2
 STARTS = ((-5.0, 0.0, 0.0), (-4.0, 1.0, 0.7), (-6.0, -1.0, -0.7), (-5.0, 2.0, 1.5),
@@ -59,9 +62,6 @@ def _filtered(schedule: Callable[[float], Command], kind: str, value: float
     """``schedule``'s forward speed through a rate limit (``kind`` "ramp": ``CommandRamp`` at
     ``value`` m/s^2) or a first-order low-pass filter ("lowpass": time constant ``value`` s,
     ``league_walk_playback.LowPass``); restarts at t = 0."""
-    sys.path.insert(0, str(Path(__file__).resolve().parent))
-    from league_walk_playback import LowPass
-
     from teamenv.league.command_ramp import CommandRamp
 
     state: list = [None]

@@ -63,12 +63,11 @@ class FieldPlayerDecisionMaker:
         #: our kick-off, kick-in or corner the taker leaves the ball to the others until
         #: another player has reached it
         self.double_touch = False
-        self._taking: dict[int, int] = {}           # agent -> the taker of our set play now
-        self.no_second_touch: dict[int, int] = {}   # agent -> the taker it keeps off the ball
+        #: agent -> the taker of our last set play, which it keeps off the ball
+        self.no_second_touch: dict[int, int] = {}
 
     def reset(self) -> None:
         self.ball_players.clear()
-        self._taking.clear()
         self.no_second_touch.clear()
 
     def decide(self, wm: WorldModel, positioning: PositioningDecision) -> ControlRequest:
@@ -96,7 +95,6 @@ class FieldPlayerDecisionMaker:
 
     def _set_piece(self, wm: WorldModel,
                    positioning: PositioningDecision) -> ControlRequest | Hold:
-        self._taking.pop(wm.me, None)
         self.no_second_touch.pop(wm.me, None)
         now = situation(wm.play_mode)
         if now is Situation.BEAM:
@@ -110,7 +108,7 @@ class FieldPlayerDecisionMaker:
         taker = set_play_taker(wm, wm.play_mode, self.goalie)  # ours: a kick-off or set play
         self.ball_players[wm.me] = taker
         if self.double_touch and wm.play_mode.kind in NO_SECOND_TOUCH:
-            self._taking[wm.me] = taker
+            self.no_second_touch[wm.me] = taker    # from when it is taken (play on)
         if taker == wm.me:
             return take_set_play(wm, self.skills, self.config.pass_max_m,
                                  self.config.pass_lane_m)
@@ -205,11 +203,8 @@ class FieldPlayerDecisionMaker:
     def keeps_off_the_ball(self, wm: WorldModel) -> int | None:
         """The teammate agent ``wm.me`` keeps off the ball under the double-touch rule: the
         taker of the set play that just ended, until another player (teammate or opponent)
-        has come within touching distance of the ball in this agent's belief. Touches are
-        not observed, so reaching the ball stands for touching it."""
-        taker = self._taking.pop(wm.me, None)
-        if taker is not None:
-            self.no_second_touch[wm.me] = taker     # our set play was taken: play on
+        has come within touching distance of the ball in this agent's belief (then it
+        forgets it). Touches are not observed, so reaching the ball stands for touching it."""
         taker = self.no_second_touch.get(wm.me)
         if taker is None:
             return None
