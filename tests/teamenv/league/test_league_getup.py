@@ -14,10 +14,12 @@ pytest.importorskip("mujoco")
 
 from teamenv.league.errors import LeagueError  # noqa: E402
 from teamenv.league.getup import (  # noqa: E402
+    ARMS_CHECK_S,
     BACK,
     DAMPING,
     END_POSE,
     FRONT,
+    FRONT_ARMS_RETRY,
     GetUpMotion,
     is_up,
     lying_on_front,
@@ -167,6 +169,24 @@ def test_a_robot_lying_on_its_front_or_back_stands_up_within_5_s_and_stays_up(si
     assert r.side_detected == side
     assert r.success and r.time_to_up <= 5.0
     assert r.heights[-1] > 0.6                       # standing in the stance (0.67 m)
+
+
+def test_an_arm_pinned_under_the_body_starts_the_front_over_once_and_it_still_stands() -> None:
+    """Front fall 1104: an arm stays by the body (shoulder pitch above ARMS_UP_RAD at the arm
+    check), the motion starts over with FRONT_ARMS_RETRY and the robot is up within 5 s;
+    fall 1000 (arms overhead) plays FRONT once, as without the check."""
+    from teamenv.league.network_walk import NetworkWalkController
+
+    pinned = GetUpMotion(attempts=1)
+    r = getup_trial(pinned, "front", seed=1104, hold_s=1.0, after=NetworkWalkController())
+    assert pinned.arms_retried and r.success and r.time_to_up <= 5.0
+    assert r.motion_s == pytest.approx(ARMS_CHECK_S + sum(dt for dt, _ in FRONT), abs=0.02)
+    free = GetUpMotion(attempts=1)
+    r = getup_trial(free, "front", seed=1000, hold_s=0.0)
+    assert not free.arms_retried and r.motion_s == pytest.approx(sum(dt for dt, _ in FRONT))
+    assert pinned.arms_retry == FRONT_ARMS_RETRY
+    assert GetUpMotion(front=FRONT[1:]).arms_retry is None      # own keyframes: no check
+    assert GetUpMotion(front=FRONT[1:], arms_retry=FRONT[:1]).arms_retry == FRONT[:1]
 
 
 def test_the_league_walk_after_the_motion_keeps_up_a_robot_the_held_pose_lets_topple() -> None:
