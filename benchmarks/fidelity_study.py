@@ -179,9 +179,13 @@ def draw(results: dict[str, Any], path: Path) -> None:
         teams = sorted(set(mine) & set(league))
         ax.plot([0.5, n + 0.5], [0.5, n + 0.5], color="0.8", lw=1, zorder=0)
         ax.scatter([league[t] for t in teams], [mine[t] for t in teams], s=40)
+        # teams that share a place in both rankings are labelled one under the other
+        placed: dict[tuple[float, float], int] = {}
         for t in teams:
-            ax.annotate(_short(t), (league[t], mine[t]), textcoords="offset points",
-                        xytext=(5, 4), fontsize=8)
+            spot = (league[t], mine[t])
+            row = placed[spot] = placed.get(spot, -1) + 1
+            ax.annotate(_short(t), spot, textcoords="offset points",
+                        xytext=(5, 4 - 11 * row), fontsize=8)
         agreement = results["agreement"].get(f"{world} vs league, {metric}", {})
         rho, ci = agreement.get("rho", math.nan), agreement.get("rho_ci", [math.nan] * 2)
         ax.set_title(f"{world} vs league, by {metric}\nSpearman rho {rho:+.2f} "
