@@ -3,6 +3,7 @@
 What a cycle delivers (`Utterance`, `Heard`, `Drop`, `Delivery`) is in `comms.delivery`; the
 hearing models as single-value formulas in `comms.hearing`."""
 
+import functools
 import math
 import operator
 from collections import deque
@@ -31,14 +32,22 @@ _max, _any, _add = np.maximum.reduce, np.logical_or.reduce, np.add.reduce
 _REAL = {int, float}
 
 
+@functools.cache
+def _capacity_kernel():
+    """The compiled `simspark` hearing kernel, imported on the first delivery: importing numba
+    takes a few tenths of a second that `import comms` should not pay."""
+    from comms.capacity_kernel import hear_by_capacity
+
+    return hear_by_capacity
+
+
 class _Routing(NamedTuple):
     """One cycle's legal messages on their way to the listeners (`Channel._route`).
 
     speakers, texts: in arrival order; illegal: the drops of illegal messages; chunks: the
     per-listener drops so far, (mask over (speaker slot, listener), reason); rel: listener ->
-    speaker offsets, (S, N) each; dist: their lengths; headings: the listeners'; masks: (4, S,
-    N) self, same team, teammate, opponent; in_range: None when everyone is within hearing
-    range.
+    speaker offsets, (S, N) each; dist: their lengths; headings: the listeners'; in_range: None
+    when everyone is within hearing range.
     """
 
     speakers: np.ndarray
@@ -48,7 +57,6 @@ class _Routing(NamedTuple):
     rel: tuple[np.ndarray, np.ndarray]
     dist: np.ndarray
     headings: np.ndarray
-    masks: np.ndarray
     in_range: np.ndarray | None
 
 
@@ -309,9 +317,7 @@ class Channel:
             in_range = dist <= prof.hearing_range_m
             if not in_range.all():
                 chunks.append((~in_range, REASON_OUT_OF_RANGE))
-        # Rows of the speakers: [self, same team, teammate (not self), opponent] x (S, N).
-        routing = _Routing(spk, text_arr, illegal, chunks, rel, dist, hd, self._masks[:, spk],
-                           in_range)
+        routing = _Routing(spk, text_arr, illegal, chunks, rel, dist, hd, in_range)
         if by_volume:
             return self._hear_by_loudness(routing, volumes, rng)
         return self._hear_by_capacity(routing)
@@ -324,7 +330,9 @@ class Channel:
         loud), which orders like the received volume and feeds the loss model."""
         prof = self.profile
         n = self.n_agents
-        masks, dist, chunks = routing.masks, routing.dist, routing.chunks
+        dist, chunks = routing.dist, routing.chunks
+        # Rows of the speakers: [self, same team, teammate (not self), opponent] x (S, N).
+        masks = self._masks[:, routing.speakers]
         is_self = masks[0]
         audible = ~is_self if routing.in_range is None else routing.in_range & ~is_self
         att = prof.attenuation_db_per_doubling
@@ -353,7 +361,7 @@ class Channel:
                 over[order[r, c], c] = True
                 chunks.append((over, REASON_MAX_HEARD))
             li, r = np.nonzero(kept.T)
-            return self._assemble(routing, order[r, li], li)
+            return self._assemble_pairs(routing, masks, order[r, li], li)
         # A speaker that hears itself: its own message first, then the others by loudness.
         heard = survive | is_self
         sort_key = np.where(is_self, -1, rank + 1)
@@ -371,54 +379,55 @@ class Channel:
                 chunks.append((over, REASON_MAX_HEARD))
                 li = li[keep]
                 si = si[keep]
-        return self._assemble(routing, si, li)
+        return self._assemble_pairs(routing, masks, si, li)
 
     def _hear_by_capacity(self, routing: _Routing) -> Delivery:
         """`simspark`: within range, then per-listener hearing capacity in arrival order, per
-        sender class (axis 0 of `by_class`: teammates, opponents)."""
+        sender class (teammates, opponents); per listener its own message, then teammates',
+        then opponents', at most `max_heard` (`comms.capacity_kernel`)."""
         prof = self.profile
-        n = self.n_agents
-        masks, chunks = routing.masks, routing.chunks
-        is_self = masks[0]
-        by_class = masks[2:] if routing.in_range is None else routing.in_range & masks[2:]
         cap = prof.capacity
-        if cap is not None:
-            ok = by_class & (by_class.cumsum(axis=1) <= (self._cap // cap.cost)[:, None])
-            self._cap -= cap.cost * _add(ok, axis=1)
-            over = by_class ^ ok  # ok is within by_class: the ones over capacity
-            by_class = ok
-            if _any(over, axis=None):
-                chunks.append((over[0] | over[1], REASON_CAPACITY))
-        # Per listener: own message, then teammates', then opponents', each in arrival
-        # order: the transposed (3S, N) stack of those masks lists them in that order.
-        blocks = np.concatenate(
-            (is_self[None], by_class) if prof.self_echo else by_class
-        ).reshape(-1, n)
-        li, si = blocks.T.nonzero()
-        if li.size:
-            si %= len(routing.speakers)
-            counts = np.bincount(li, minlength=n)
-            if _max(counts) > prof.max_heard:
-                within = np.arange(li.size) - (np.cumsum(counts) - counts)[li]
-                keep = within < prof.max_heard
-                over = np.zeros_like(is_self)
-                over[si[~keep], li[~keep]] = True
-                chunks.append((over, REASON_MAX_HEARD))
-                li = li[keep]
-                si = si[keep]
-        return self._assemble(routing, si, li, True)
+        rel = routing.rel
+        n = self.n_agents
+        size = n * prof.max_heard
+        pair_ids = np.empty((2, size), dtype=np.intp)
+        pair_flags = np.empty((2, size), dtype=bool)
+        pair_offsets = np.empty((2, size))
+        over = np.zeros((2, len(routing.speakers), n), dtype=bool)
+        count, any_over_capacity, any_over_max = _capacity_kernel()(
+            routing.speakers, self.teams, routing.dist, float(prof.hearing_range_m), rel[0],
+            rel[1], self._cap, 0 if cap is None else int(cap.cost), bool(prof.self_echo),
+            int(prof.max_heard), pair_ids, pair_flags, pair_offsets, over)
+        chunks = routing.chunks
+        if any_over_capacity:
+            chunks.append((over[0], REASON_CAPACITY))
+        if any_over_max:
+            chunks.append((over[1], REASON_MAX_HEARD))
+        li, si = pair_ids[0, :count], pair_ids[1, :count]
+        pair_self, pair_mate = pair_flags[0, :count], pair_flags[1, :count]
+        dy, dx = pair_offsets[0, :count], pair_offsets[1, :count]
+        return self._assemble(routing, si, li, pair_self, pair_mate, dy, dx, True)
+
+    def _assemble_pairs(
+        self, routing: _Routing, masks: np.ndarray, si: np.ndarray, li: np.ndarray
+    ) -> Delivery:
+        """`_assemble` for (speaker slot, listener) pairs picked by `_hear_by_loudness`."""
+        rel = routing.rel
+        return self._assemble(routing, si, li, masks[0][si, li], masks[1][si, li],
+                              rel[1][si, li], rel[0][si, li])
 
     def _assemble(
-        self, routing: _Routing, si: np.ndarray, li: np.ndarray, grouped: bool = False
+        self, routing: _Routing, si: np.ndarray, li: np.ndarray, pair_self: np.ndarray,
+        teammate: np.ndarray, rel_y: np.ndarray, rel_x: np.ndarray, grouped: bool = False
     ) -> Delivery:
-        """Build the Heard lists from (speaker slot, listener) pairs sorted per listener."""
-        rel, hd, masks = routing.rel, routing.headings, routing.masks
-        ang = pm.arctan2(rel[1][si, li], rel[0][si, li]) - hd[li]
+        """Build the Delivery from (speaker slot, listener) pairs sorted per listener, with
+        whether each is the listener's own message, from its team, and the listener ->
+        speaker offset."""
+        ang = pm.arctan2(rel_y, rel_x) - routing.headings[li]
         ang = (ang + math.pi) % _TWO_PI - math.pi
         q = self.profile.direction_quantum_deg
         if q > 0.0:
             ang = np.trunc(ang * (180.0 / math.pi / q)) * (q * math.pi / 180.0)
-        pair_self = masks[0][si, li]
         ang[pair_self] = 0.0
         spk = routing.speakers
         pairs = (
@@ -427,7 +436,7 @@ class Channel:
             routing.texts[si],
             ang,
             pair_self,
-            masks[1][si, li],
+            teammate,
         )
         return Delivery(None, routing.illegal, (spk, routing.chunks), pairs, self.n_agents,
                         grouped)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
 from typing import Any
 
@@ -15,7 +16,15 @@ from teamenv.box_layout import (
     play_mode_and_game_block,
 )
 from teamenv.sim.playmode import PlayMode
-from teamenv.sim.world import wrap_angle as _wrap
+
+
+@functools.cache
+def _state_rows():
+    """The compiled row kernel, imported on the first observation: importing numba takes a
+    few tenths of a second that ``import teamenv`` should not pay."""
+    from teamenv.sim.kernels import state_rows
+
+    return state_rows
 
 
 class StatePerception:
@@ -37,8 +46,9 @@ class StatePerception:
         order = [np.arange(n), np.r_[np.arange(team_size, n), np.arange(team_size)]]
         self._cols = np.stack([order[t] for t in self._team_list]) if n else \
             np.zeros((0, 0), dtype=np.intp)
-        # One float64 row per agent, laid out as the flat observation (``StateLayout``); the
-        # Dict parts are views of its float32 copy.
+        # One float32 row per agent, laid out as the flat observation (``StateLayout``); the
+        # Dict parts are views of it. The kernel writes player columns 5 wide.
+        assert PLAYER_DIM == 5
         self.layout = StateLayout(team_size, heard_slots)
         offsets = self.layout.offsets
         self._o_ball = offsets["ball"][0]
@@ -46,11 +56,12 @@ class StatePerception:
         self._o_mode = offsets["play_mode"][0]
         self._o_game = offsets["game"][0]
         self._o_heard = offsets["heard"][0]
+        self._offsets = np.array([self._o_ball, self._o_players, self._o_mode, self._o_game,
+                                  self._o_heard], dtype=np.intp)
         self._width = self.layout.size
         # Parts that change only with the attack directions, play mode, half or score.
         self._sign_key: tuple | None = None
         self._block_key: tuple | None = None
-        self._buffer: np.ndarray | None = None
 
     def observe(
         self, poses: np.ndarray, velocities: np.ndarray, ball: np.ndarray, fallen: np.ndarray,
@@ -66,54 +77,10 @@ class StatePerception:
         slot; ``heard_texts``: per agent, a tuple of K texts ("" = empty slot)."""
         n = len(poses)
         team_of = self.team_of
-        # A scratch buffer kept between calls (``out`` below is a copy): its constant "present"
-        # column and the play-mode/half/score block are written only when they change.
-        rows = self._buffer
-        if rows is None or len(rows) != n:
-            rows = self._buffer = np.empty((n, self._width))
-            rows[:, self._o_players:self._o_mode].reshape(n, n, PLAYER_DIM)[:, :, 4] = 1.0
-            self._block_key = None
-            # x (or y) of every other player (own team first), then of the ball, then the
-            # ball's velocity component: (n, n + 2), rotated into each body frame at once.
-            self._dx = np.empty((n, n + 2))
-            self._dy = np.empty((n, n + 2))
         key = tuple(attack_sign)
         if key != self._sign_key:
-            sign = np.asarray(attack_sign, dtype=float)[team_of]  # (n,)
-            self._sign, self._sign2, self._sign_pos = sign, sign[:, None], sign > 0
+            self._sign = np.asarray(attack_sign, dtype=float)[team_of]  # (n,)
             self._sign_key = key
-        sign2 = self._sign2
-        x, y, h = poses[:, 0], poses[:, 1], poses[:, 2]
-        cos_h, sin_h = np.cos(h), np.sin(h)
-
-        rows[:, 0:2] = sign2 * poses[:, :2]
-        rows[:, 2] = np.where(self._sign_pos, h, _wrap(h + np.pi))
-        rows[:, 3:5] = sign2 * velocities[:, :2]
-        rows[:, 5] = velocities[:, 2]
-        rows[:, 6] = fallen
-
-        # Every other player (own team first), the ball and the ball's velocity, relative to
-        # each agent in its body frame: x' = c dx + s dy, y' = -s dx + c dy.
-        cols = self._cols
-        dx, dy, col_x = self._dx, self._dy, x[:, None]
-        np.subtract(x[cols], col_x, out=dx[:, :n])
-        np.subtract(ball[0], x, out=dx[:, n])
-        dx[:, n + 1] = ball[2]
-        np.subtract(y[cols], y[:, None], out=dy[:, :n])
-        np.subtract(ball[1], y, out=dy[:, n])
-        dy[:, n + 1] = ball[3]
-        c, s, ms = cos_h[:, None], sin_h[:, None], -sin_h[:, None]
-        along = c * dx + s * dy
-        across = ms * dx + c * dy
-        rel = rows[:, self._o_players:self._o_mode].reshape(n, n, PLAYER_DIM)
-        rel[:, :, 0] = along[:, :n]
-        rel[:, :, 1] = across[:, :n]
-        o = self._o_ball
-        rows[:, o:o + 4:2] = along[:, n:]  # ball x, ball vx
-        rows[:, o + 1:o + 4:2] = across[:, n:]  # ball y, ball vy
-        rel[:, :, 2] = _wrap(h[cols] - h[:, None])
-        rel[:, :, 3] = fallen[cols]
-
         # Play-mode one-hot, half and scores: rebuilt only when one of them changes.
         modes = (int(mode), int(mode.for_team(1)))
         key = (modes, half, tuple(score))
@@ -121,11 +88,11 @@ class StatePerception:
             self._block = play_mode_and_game_block(team_of, modes, half, score)
             self._block_key = key
             self._team_modes = [modes[t] for t in self._team_list]
-            rows[:, self._o_mode:self._o_heard] = self._block
-        rows[:, self._o_game] = time_s
-        rows[:, self._o_heard:] = heard_info.reshape(n, -1)
-
-        out = rows.astype(np.float32)
+        h = poses[:, 2]
+        out = np.empty((n, self._width), dtype=np.float32)
+        _state_rows()(
+            poses, velocities, ball, fallen, np.cos(h), np.sin(h), self._sign, self._cols,
+            self._block, time_s, heard_info.reshape(n, -1), self._offsets, out)
         if flat:
             return list(out)
         observations = ObservationRows(self, out, heard_texts)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from collections.abc import Sequence
@@ -22,6 +23,15 @@ from teamenv.sim.vision import VisionPerception
 from teamenv.sim.world import World, wrap_angle
 
 _MINUS_PLUS = np.array([-1.0, 1.0])
+
+
+@functools.cache
+def _fill_heard():
+    """The compiled heard-slot kernel, imported on the first message: importing numba takes a
+    few tenths of a second that ``import teamenv`` should not pay."""
+    from teamenv.sim.kernels import fill_heard
+
+    return fill_heard
 
 #: Phases of a cycle timed by ``Simulation`` (see ``Simulation.phase_s``).
 SIM_PHASES = ("beam", "locomotion", "kick", "physics", "referee", "comms", "perception")
@@ -279,28 +289,23 @@ class Simulation:
             if not listener.size:
                 return
         total = len(listener)
-        # (listener, message) pairs come sorted by listener: slot = rank within a listener,
-        # the distance to the listener's first pair.
-        slot = np.arange(total) - np.searchsorted(listener, listener)
         if pairs is None or not delivery.grouped:
             # Sort each listener's pairs by slot class (self, teammate, opponent), stable,
             # and keep the first heard_slots (the channel's own order need not be that).
+            # (listener, message) pairs come sorted by listener: rank within a listener =
+            # the distance to the listener's first pair.
+            slot = np.arange(total) - np.searchsorted(listener, listener)
             rank = np.where(is_self_a, 0, np.where(mate_a, 1, 2))
             order = np.lexsort((rank, listener))
             fits = slot < self.heard_slots
             keep = order[fits]
             if keep.size < total:
                 listener = listener[fits]
-                slot = slot[fits]
             is_self_a, mate_a = is_self_a[keep], mate_a[keep]
             direction_a, texts_a = direction_a[keep], texts_a[keep]
         # else: already in slot order, at most max_heard (= heard_slots) per listener
-        values = np.empty((len(listener), HEARD_DIM))
-        values[:, 0] = 1.0
-        values[:, 1] = is_self_a
-        values[:, 2] = mate_a
-        values[:, 3] = direction_a
-        self._heard_info[listener, slot] = values
+        slot = np.empty(len(listener), dtype=np.intp)
+        _fill_heard()(listener, is_self_a, mate_a, direction_a, self._heard_info, slot)
         table = np.full((self.n, self.heard_slots), "", dtype=object)
         table[listener, slot] = texts_a
         self._heard_texts = list(map(tuple, table.tolist()))
