@@ -332,7 +332,10 @@ def _elementwise(function: Any, vectorised: Any, name: str) -> Any:
 
     @wraps(vectorised)
     def portable(*args: Any) -> Any:
-        arrays = np.broadcast_arrays(*(_array(a) for a in args))
+        arrays = [_array(a) for a in args]
+        # broadcasting costs a few microseconds even when there is nothing to broadcast
+        if len(arrays) > 1 and any(a.shape != arrays[0].shape for a in arrays[1:]):
+            arrays = np.broadcast_arrays(*arrays)
         columns = [a.ravel().tolist() for a in arrays]
         try:
             values = list(map(function, *columns))
