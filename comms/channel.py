@@ -27,8 +27,8 @@ REASON_INAUDIBLE = "inaudible"  # `mj`: said at volume 0 (listener -1: nobody he
 _TWO_PI = 2.0 * math.pi
 _new = tuple.__new__  # builds a NamedTuple from a tuple without the Python-level __new__
 _INT = {int}
-# ufunc reductions called directly (ndarray.max/any/sum go through Python wrappers)
-_max, _any, _add = np.maximum.reduce, np.logical_or.reduce, np.add.reduce
+# a ufunc reduction called directly (ndarray.max goes through a Python wrapper)
+_max = np.maximum.reduce
 _REAL = {int, float}
 
 
