@@ -32,6 +32,7 @@ import json
 import shutil
 import sys
 import time
+from dataclasses import replace
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
@@ -46,15 +47,30 @@ from teamenv.selfplay.league import generation_seed, run_league
 from teamenv.selfplay.league_store import LEAGUE_DB, LeagueStore
 from teamenv.selfplay.rating import RatingSetup, rating_tournament
 from teamenv.selfplay.snapshots import SnapshotPool
-from teamenv.selfplay.training_setup import TrainingSetup
+from teamenv.selfplay.training_setup import TrainingSetup, option_actions
 from teamenv.tournament.spec import parse_team_spec
 
-#: The learners of the demo: "imitation" (the committed run: PPO warm-started by cloning
-#: chaser, ``teamenv.selfplay.imitation``) and "ppo" (from scratch: the first run).
-LEARNERS = ("imitation", "ppo")
+#: The learners of the demo: "options" (5 v 5 on mj7v7: a network that chooses each field
+#: player's open-play option for ``full_options``, cloned from full's own rule, then PPO),
+#: "imitation" (3 v 3: PPO warm-started by cloning chaser, ``teamenv.selfplay.imitation``)
+#: and "ppo" (3 v 3, from scratch: the first run).
+LEARNERS = ("imitation", "ppo", "options")
 #: The imitation learner's options beyond PPO's (the teacher and the clone).
 IMITATION_OPTIONS = {"teacher": "chaser", "dagger_rounds": 2, "bc_epochs": 30,
                      "bc_log_std": -1.5}
+
+
+#: The options run's training: 5 v 5 on the league's field (where ``full`` beats ``chaser``,
+#: docs/selfplay.md), egocentric slots for every other player, one network scoring the three
+#: open-play options of ``full_options`` every 5 cycles.
+OPTIONS_TRAINING = TrainingSetup(field="mj7v7", team_size=5, episode_s=60.0, teammate_slots=4,
+                                 opponent_slots=5, actions=option_actions(3),
+                                 option_team="full_options")
+#: Its learner: the clone of the rule (three rounds: the rule's own, two DAgger), then PPO at
+#: a learning rate that keeps it near the clone.
+OPTIONS_LEARNER = {"copies": 4, "n_steps": 256, "batch_size": 512, "n_epochs": 5,
+                   "learning_rate": 3e-5, "hidden": 128, "dagger_rounds": 2, "bc_epochs": 30,
+                   "bc_log_std": -1.5}
 
 
 def demo_config(smoke: bool, learner: str = "imitation") -> LeagueConfig:
@@ -63,13 +79,24 @@ def demo_config(smoke: bool, learner: str = "imitation") -> LeagueConfig:
         raise ValueError(f"learner {learner!r}: one of {LEARNERS}")
     if smoke:
         extra = {**IMITATION_OPTIONS, "dagger_rounds": 1, "bc_epochs": 2} \
-            if learner == "imitation" else {}
+            if learner == "imitation" else \
+            {"learning_rate": 3e-5, "dagger_rounds": 1, "bc_epochs": 2} \
+            if learner == "options" else {}
+        training = TrainingSetup(team_size=3, episode_s=2.0) if learner != "options" else \
+            replace(OPTIONS_TRAINING, team_size=3, episode_s=2.0)
         return LeagueConfig(
             seed=0, steps_per_generation=192, builtins=("chaser", "static"),
-            training=TrainingSetup(team_size=3, episode_s=2.0),
+            training=training,
             rating=RatingSetup(half_time_s=5.0, halves=1, recent=1, n_bootstrap=20),
-            learner=learner, learner_options={"copies": 1, "n_steps": 64, "batch_size": 64,
-                                              "n_epochs": 2, **extra})
+            learner="imitation" if learner == "options" else learner,
+            learner_options={"copies": 1, "n_steps": 64, "batch_size": 64, "n_epochs": 2,
+                             **extra})
+    if learner == "options":
+        return LeagueConfig(
+            seed=0, steps_per_generation=30_000, builtins=("chaser", "static", "full"),
+            training=OPTIONS_TRAINING,
+            rating=RatingSetup(games_per_pairing=1, half_time_s=60.0, halves=2, recent=2),
+            learner="imitation", learner_options=OPTIONS_LEARNER)
     if learner == "imitation":
         return LeagueConfig(
             seed=0, steps_per_generation=36_000, builtins=("chaser", "static", "full"),
@@ -151,7 +178,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--smoke", action="store_true", help="a tiny run (seconds)")
     args = parser.parse_args(argv)
     smoke = args.smoke
-    tag = "_imitation" if args.learner == "imitation" else ""
+    tag = {"imitation": "_imitation", "options": "_options"}.get(args.learner, "")
     run_dir = args.run_dir or Path(f"runs/selfplay{tag}_league" + ("_smoke" if smoke else ""))
     curve = args.curve or (run_dir / "curve.png" if smoke else
                            Path(f"docs/selfplay{tag}_rating_curve.png"))
@@ -174,7 +201,9 @@ def main(argv: list[str] | None = None) -> None:
     league_wall_s = time.perf_counter() - start
 
     with LeagueStore(run_dir / LEAGUE_DB) as store:
-        plot_rating_curve(store, curve, title=f"self-play league, 3 v 3 {config.training.field}"
+        size = config.training.team_size
+        plot_rating_curve(store, curve, title=f"self-play league, {size} v {size} "
+                          f"{config.training.field}"
                           f": {store.last_rated()} generations of "
                           f"{config.steps_per_generation} agent-decisions")
         last = store.last_rated()
@@ -206,7 +235,7 @@ def main(argv: list[str] | None = None) -> None:
         best = next(t for t in final.bradley_terry if t.startswith("gen-") and t != "gen-0000")
         generation = int(best.split("-")[1])
         policy = args.policy or (run_dir / "best.npz" if smoke else
-                                 Path(f"examples/policies/selfplay_3v3{tag}.npz"))
+                                 Path(f"examples/policies/selfplay_{size}v{size}{tag}.npz"))
         report_path = args.report or (run_dir / "evaluation.json" if smoke else
                                       Path(f"benchmarks/results/selfplay{tag}_evaluation.json"))
         policy.parent.mkdir(parents=True, exist_ok=True)
@@ -221,7 +250,7 @@ def main(argv: list[str] | None = None) -> None:
                   "seeds": [seeds[0], seeds[-1]], "opponents": {}}
         games = [("learned", best, policy, "chaser"), ("learned", best, policy, "full"),
                  ("untrained", "gen-0000", pool.path(0), "chaser")]
-        teacher = config.learner_options.get("teacher")
+        teacher = config.learner_options.get("teacher") or config.training.option_team or None
         if teacher is not None:  # what the clone was taught: the teacher against chaser
             games.append(("teacher", str(teacher), None, "chaser"))
         for role, name, path, opponent in games:

@@ -37,6 +37,13 @@ from strategy.perception.worldmodel import WorldModel, shared, shared_rows
 from strategy.positioning import PositioningDecision
 from teamenv.config import NO_SECOND_TOUCH  # the set plays the double-touch rule covers
 
+#: The open-play options of a field player, by index: play the ball (``play_ball``), stand
+#: goal-side of it (``cover``), or hold the voted formation position pulled towards the ball.
+#: ``FieldPlayerDecisionMaker.chosen_options`` records which one the team's own rule chose;
+#: ``option_override`` makes another decider (a learned policy) choose instead.
+OPTIONS = ("play_ball", "cover", "hold")
+PLAY_BALL, COVER, HOLD = range(len(OPTIONS))
+
 MOVING_BALL_M_S = 1.0
 """Faster than this the ball is rolling (a kick), not being pushed in a dribble: players are
 chosen, and run, by where they can meet it."""
@@ -65,10 +72,16 @@ class FieldPlayerDecisionMaker:
         self.double_touch = False
         #: agent -> the taker of our last set play, which it keeps off the ball
         self.no_second_touch: dict[int, int] = {}
+        #: agent -> the open-play option (``OPTIONS``) this maker's own rule chose for it at
+        #: its last open-play decision (what a policy that learns the choice is taught)
+        self.chosen_options: dict[int, int] = {}
+        #: agent -> the option to play instead of the rule's choice (None: the rule decides)
+        self.option_override: dict[int, int] | None = None
 
     def reset(self) -> None:
         self.ball_players.clear()
         self.no_second_touch.clear()
+        self.chosen_options.clear()
 
     def decide(self, wm: WorldModel, positioning: PositioningDecision) -> ControlRequest:
         """One agent's request (``plan_all`` with n = 1, its hold resolved)."""
@@ -135,6 +148,10 @@ class FieldPlayerDecisionMaker:
             k = d.argmin(axis=1)
             found = np.isfinite(d[np.arange(len(d)), k])
             supporting[others] = found & (k == me[others])
+        for wm, ball, support in zip(wms, ~others, supporting, strict=True):
+            self.chosen_options[wm.me] = PLAY_BALL if ball else COVER if support else HOLD
+        if self.option_override is not None:
+            others, supporting = self._overridden(me, others, supporting)
         holding = others & ~supporting
         kept = rows[holding].tolist()
         held = iter(self.pulled_all([wms[i] for i in kept],
@@ -146,6 +163,17 @@ class FieldPlayerDecisionMaker:
                 plans[slots[i]] = self.cover(wm)
             else:
                 plans[slots[i]] = Hold(next(held))
+
+    def _overridden(self, me: np.ndarray, others: np.ndarray, supporting: np.ndarray
+                    ) -> tuple[np.ndarray, np.ndarray]:
+        """``others`` (not playing the ball) and ``supporting`` as ``option_override`` says,
+        for the agents it names (the rule's choice for the others)."""
+        override = self.option_override or {}
+        chosen = np.array([override.get(int(k), -1) for k in me])
+        named = chosen >= 0
+        others = np.where(named, chosen != PLAY_BALL, others)
+        supporting = np.where(named, chosen == COVER, supporting)
+        return others, supporting
 
     def pulled(self, wm: WorldModel, target: np.ndarray) -> np.ndarray:
         """One agent's ``pulled_all``."""

@@ -66,6 +66,7 @@ class FullTeam:
         makers = decision_makers(self.config, self.skills, formations["defend"].goalie_index,
                                  memo)
         makers[0].double_touch = context.double_touch   # the league's rule, when in force
+        self.field_maker = makers[0]
         # and one set of ballot boxes: the team's votes counted in one pass
         voters = RoleVoters(context.team_size, range(len(context.agents)))
         self.players = {

@@ -27,7 +27,11 @@ The file format (``MLP_FORMAT``, torch-free, numpy only), an ``.npz`` with:
 - optional ``action_repeat`` (int >= 1, default 1): the ``policy`` team runs the network every
   ``action_repeat``-th cycle of an episode (the first included) and repeats its output in
   between, as a policy trained with that frame skip acts; the kick gate is applied every
-  cycle to the current observation.
+  cycle to the current observation;
+- optional ``option_team`` (a team spec name) and ``option_count`` (int k): the first k Box
+  outputs are scores of k options that team plays (the highest is chosen), not actions. Only
+  that team reads such a file (``load_policy(path, option_team=name)``); the ``policy`` team
+  refuses it with a message naming the team to play it with.
 """
 
 from __future__ import annotations
@@ -192,13 +196,44 @@ def save_mlp_policy(path: str | Path, layers: Sequence[tuple[np.ndarray, np.ndar
     return path
 
 
-def load_policy(path: str | Path) -> MLPPolicy:
-    """Read a policy file written by ``save_mlp_policy`` (or any writer of the format)."""
+#: The entries of a file whose outputs score options (module docstring).
+OPTION_TEAM_KEY, OPTION_COUNT_KEY = "option_team", "option_count"
+
+
+def option_team(path: str | Path) -> tuple[str, int] | None:
+    """(team spec name, option count) of a policy file that scores options, else None."""
+    data = read_npz(path, f"policy file {str(path)!r}", PolicyFileError,
+                    what=f"{MLP_FORMAT} policy file")
+    return _option_team(data, Path(path))
+
+
+def _option_team(data: Mapping[str, np.ndarray], path: Path) -> tuple[str, int] | None:
+    if OPTION_TEAM_KEY not in data:
+        return None
+    try:
+        return str(data[OPTION_TEAM_KEY]), int(data[OPTION_COUNT_KEY])
+    except (KeyError, TypeError, ValueError) as exc:
+        raise PolicyFileError(f"policy file {str(path)!r}: {OPTION_TEAM_KEY!r} needs an "
+                              f"integer {OPTION_COUNT_KEY!r} entry ({exc})") from None
+
+
+def load_policy(path: str | Path, option_team: str | None = None) -> MLPPolicy:
+    """Read a policy file written by ``save_mlp_policy`` (or any writer of the format).
+    A file that scores options is read only by the team it names (``option_team``)."""
     path = Path(path)
     if not path.is_file():
         raise PolicyFileError(f"policy file {str(path)!r} not found")
     data = read_npz(path, f"policy file {str(path)!r}", PolicyFileError,
                     what=f"{MLP_FORMAT} policy file")
+    chooser = _option_team(data, path)
+    if option_team is not None and chooser is None:
+        raise PolicyFileError(f"policy file {str(path)!r}: its outputs are Box actions; the "
+                              f"{option_team!r} team plays a file that scores its options "
+                              f"(an {OPTION_TEAM_KEY!r} entry naming it)")
+    if chooser is not None and chooser[0] != option_team:
+        raise PolicyFileError(f"policy file {str(path)!r} scores {chooser[1]} options for the "
+                              f"{chooser[0]!r} team, not Box actions: play it as "
+                              f"{chooser[0]}:path={path}")
     try:
         return _policy_from_arrays(data, path)
     except PolicyFileError:

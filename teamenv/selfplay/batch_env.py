@@ -18,6 +18,7 @@ bootstrapped) and ``episode`` (``r``: the slot's return, ``l``: its decisions).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -29,9 +30,29 @@ from teamenv.seeds import TUNING_SEEDS, tuning_seeds
 from teamenv.selfplay.pfsp import OpponentMix
 from teamenv.selfplay.training_setup import TrainingSetup, kick_gate_m
 from teamenv.shaping import PotentialShaping, WeightedPotentials
+from teamenv.tournament.spec import parse_team_spec
 
 #: The learner drives this side; the opponent the other.
 LEARNER_SIDE = "left"
+#: An option's label in the network's output space (``option_labels``): this for the option
+#: the rule chose, minus this for the others (inside the output range [-1, 1], so that
+#: PPO's clipped actions reach it).
+OPTION_LABEL = 0.5
+
+
+class _CallerActs:
+    """An option team as the env hosts it: the env hands it observations and resets it, and
+    the training env calls ``act`` itself, once a cycle, to play what the network chose (the
+    env's own call would be a second decision in the same cycle)."""
+
+    def __init__(self, team) -> None:
+        self.team = team
+
+    def reset(self, seed: int) -> None:
+        self.team.reset(seed)
+
+    def act(self, observations) -> dict:
+        return {}
 
 
 def training_seed(seed: int, copy: int, episode: int) -> int:
@@ -67,7 +88,10 @@ class TeamBatchEnv:
         self.team_size = setup.team_size
         self.n_slots = copies * self.team_size
         self.agents = [f"{LEARNER_SIDE}_{k + 1}" for k in range(self.team_size)]
+        self.option_spec = parse_team_spec(setup.option_team) if setup.option_team else None
+        self._teams: list[dict[str, Any]] = [{} for _ in range(copies)]
         probe = self._make_env(None)
+        self.option_count = 0 if self.option_spec is None else setup.actions.size
         self.raw_size = int(probe.observation_space(self.agents[0]).shape[0])
         self.gate_m = kick_gate_m() if setup.actions.kick_gate else None
         self.transform = EgocentricObservation.for_env(
@@ -97,6 +121,7 @@ class TeamBatchEnv:
         self._goals = [[0, 0] for _ in range(self.copies)]
         self._opponent_label = [""] * self.copies
         self._seed_now = [0] * self.copies
+        self._labels = np.zeros(self.n_slots, dtype=np.int64)
         self.episodes = []
 
     def _make_env(self, opponent) -> SoccerParallelEnv:
@@ -107,22 +132,47 @@ class TeamBatchEnv:
         right = {} if opponent is None else {"right": opponent.name,
                                              "right_config": opponent.config_dict,
                                              **self._learning_side_options()}
+        # an option team's actions are Dict actions: its players talk (say) as they play
+        actions = "box" if self.option_spec is None else "dict"
         return SoccerParallelEnv(field=s.field, team_size=s.team_size,
-                                 observation_format="box", action_format="box",
+                                 observation_format="box", action_format=actions,
                                  reward=s.reward, reward_fn=shaping, max_cycles=cycles,
                                  profile_phases=False, **right)
 
     def _learning_side_options(self) -> dict:
-        """More env options for a training match (a subclass names a team for the learning
-        side whose players the caller drives: ``teamenv.selfplay.teacher_env``)."""
-        return {}
+        """More env options for a training match: the option team on the learning side,
+        its players driven by the caller (a subclass names another team there:
+        ``teamenv.selfplay.teacher_env``)."""
+        if self.option_spec is None:
+            return {}
+        return {"left": self.option_spec.name, "left_config": self.option_spec.config_dict,
+                "caller_agents": list(self.agents)}
 
     def _env_for(self, copy: int, opponent) -> SoccerParallelEnv:
         cache = self._cache[copy]
         env = cache.get(opponent.label)
         if env is None:
             env = cache[opponent.label] = self._make_env(opponent)
+            if self.option_spec is not None:
+                self._teams[copy][opponent.label] = self._take_option_team(env)
         return env
+
+    def _take_option_team(self, env: SoccerParallelEnv):
+        """The option team the env hosts on the learning side, which this env then plays
+        itself (``_CallerActs``); a ``ConfigError`` if it cannot take options."""
+        host = env.team_host
+        team = host.teams[LEARNER_SIDE]
+        names = getattr(team, "option_names", None)
+        if not callable(getattr(team, "choose", None)) or \
+                not callable(getattr(team, "rule_options", None)) or names is None:
+            raise ConfigError(f"training: option_team {self.setup.option_team!r} does not take "
+                              f"options (it needs choose, rule_options and option_names)")
+        if len(names) != self.setup.actions.size:
+            raise ConfigError(f"training: option_team {self.setup.option_team!r} has "
+                              f"{len(names)} options {tuple(names)}, the network scores "
+                              f"{self.setup.actions.size}")
+        host.teams[LEARNER_SIDE] = _CallerActs(team)
+        return team
 
     # -- stepping ----------------------------------------------------------------------------
     def observe(self, raw: np.ndarray) -> np.ndarray:
@@ -162,20 +212,41 @@ class TeamBatchEnv:
         full[:, self._learned] += outputs * self._scale
         return np.clip(full, -1.0, 1.0)
 
-    def step(self, outputs: np.ndarray):
-        """One decision of every slot: ``outputs`` (n_slots, action_size). Returns
+    def chosen_options(self, outputs: np.ndarray) -> np.ndarray:
+        """The option each slot plays for network outputs (n, k): the highest score after
+        the env's clipping (a tie: the lower index), as the snapshot's team chooses."""
+        return np.argmax(self.box_actions(outputs)[:, :self.option_count], axis=1)
+
+    def option_labels(self) -> np.ndarray:
+        """(n_slots, k) what the option team's rule chose at the first cycle of the last
+        decision, in the network's output space (``OPTION_LABEL`` for it, minus that for the
+        others): the imitation labels of that decision's observations."""
+        labels = np.full((self.n_slots, self.option_count), -OPTION_LABEL, dtype=np.float32)
+        labels[np.arange(self.n_slots), self._labels] = OPTION_LABEL
+        return labels
+
+    def step(self, outputs: np.ndarray | None):
+        """One decision of every slot: ``outputs`` (n_slots, action_size); None with an
+        option team: its own rule chooses (the teacher's demonstration). Returns
         observations, rewards (n_slots,), dones (n_slots,) and one info dict per slot."""
-        outputs = np.asarray(outputs, dtype=np.float32)
-        if outputs.shape != (self.n_slots, self.action_size):
-            raise ConfigError(f"training env: actions of shape {outputs.shape}, expected "
-                              f"({self.n_slots}, {self.action_size})")
-        full = self.box_actions(outputs)
+        if outputs is None and self.option_spec is not None:
+            full = None
+        else:
+            outputs = np.asarray(outputs, dtype=np.float32)
+            if outputs.shape != (self.n_slots, self.action_size):
+                raise ConfigError(f"training env: actions of shape {outputs.shape}, expected "
+                                  f"({self.n_slots}, {self.action_size})")
+            full = self.box_actions(outputs)
         rewards = np.zeros(self.n_slots)
         dones = np.zeros(self.n_slots, dtype=bool)
         infos: list[dict] = [{} for _ in range(self.n_slots)]
         for copy in range(self.copies):
             rows = self._rows(copy)
-            reward, ended, truncated = self._decide(copy, full[rows])
+            if self.option_spec is not None:
+                reward, ended, truncated = self._play_options(
+                    copy, None if full is None else self.chosen_options(outputs[rows]))
+            else:
+                reward, ended, truncated = self._decide(copy, full[rows])
             rewards[rows] = reward
             self._returns[rows] += reward
             self._decisions[copy] += 1
@@ -194,6 +265,32 @@ class TeamBatchEnv:
         for _ in range(a.action_repeat):
             act = apply_reflexes(self._raw[rows], full, self.gate_m, a.walk_to_ball)
             obs, rew, term, trunc, infos = env.step(dict(zip(self.agents, act, strict=True)))
+            total += discount * np.array([rew[x] for x in self.agents])
+            discount *= gamma
+            self._raw[rows] = np.stack([obs[x] for x in self.agents])
+            scorer = infos[self.agents[0]].get("goal")
+            if scorer is not None:
+                self._goals[copy][0 if scorer == LEARNER_SIDE else 1] += 1
+            first = self.agents[0]
+            if term[first] or trunc[first]:
+                return total, True, bool(trunc[first] and not term[first])
+        return total, False, False
+
+    def _play_options(self, copy: int, options: np.ndarray | None
+                      ) -> tuple[np.ndarray, bool, bool]:
+        """``_decide`` with an option team: it plays ``options`` (None: its rule's) for
+        ``action_repeat`` cycles, deciding how every cycle itself."""
+        env, rows = self._env[copy], self._rows(copy)
+        team = self._teams[copy][self._opponent_label[copy]]
+        team.choose(None if options is None else dict(zip(self.agents, options.tolist(),
+                                                          strict=True)))
+        gamma, discount = self.setup.cycle_gamma, 1.0
+        total = np.zeros(self.team_size)
+        for cycle in range(self.setup.actions.action_repeat):
+            act = team.act(env.team_host.observations[LEARNER_SIDE])
+            if cycle == 0:
+                self._labels[rows] = team.rule_options(self.agents)
+            obs, rew, term, trunc, infos = env.step(act)
             total += discount * np.array([rew[x] for x in self.agents])
             discount *= gamma
             self._raw[rows] = np.stack([obs[x] for x in self.agents])

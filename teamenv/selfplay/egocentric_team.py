@@ -25,6 +25,7 @@ import comms
 from teamenv.egocentric import EgocentricObservation
 from teamenv.input_files import read_npz
 from teamenv.policy_team import MLPPolicy, PolicyFileError, PolicyTeam, load_policy
+from teamenv.policy_team.mlp_file import OPTION_COUNT_KEY, OPTION_TEAM_KEY
 from teamenv.team_config import team_config
 from teamenv.teams import TeamContext
 
@@ -62,6 +63,18 @@ def egocentric_slots(path: str | Path) -> tuple[int, int] | None:
     return counts[0], counts[1]
 
 
+def add_option_team(path: str | Path, team: str, options: int) -> Path:
+    """Mark the policy file ``path`` as scoring ``options`` options for ``team`` (a team spec
+    name; ``teamenv.policy_team.mlp_file``'s ``option_team`` entries): rewrites it."""
+    path = Path(path)
+    arrays = read_npz(path, f"policy file {str(path)!r}", PolicyFileError)
+    arrays[OPTION_TEAM_KEY] = np.asarray(str(team))
+    arrays[OPTION_COUNT_KEY] = np.asarray(int(options))
+    with path.open("wb") as fh:
+        np.savez(fh, **arrays)
+    return path
+
+
 class EgocentricPolicy:
     """A policy file's network fed egocentric rows: ``policy(raw_rows) -> actions``.
 
@@ -91,6 +104,22 @@ class EgocentricPolicy:
         return self.gate(obs_batch, self.network_actions(obs_batch))
 
 
+def egocentric_policy(path: str | Path, context: TeamContext,
+                      option_team: str | None = None) -> EgocentricPolicy:
+    """The egocentric policy file ``path`` (``option_team``: the team a file that scores
+    options is read by) fed the egocentric rows of the env ``context`` describes."""
+    slots = egocentric_slots(path)
+    if slots is None:
+        raise PolicyFileError(f"policy file {str(path)!r}: no egocentric slots "
+                              f"({SLOT_KEYS})")
+    if context.observation_mode != "state":
+        raise PolicyFileError(f"policy file {str(path)!r}: egocentric slots read state-mode "
+                              f"observations; the env uses {context.observation_mode!r}")
+    heard = int(comms.get_profile(context.channel).max_heard)
+    transform = EgocentricObservation(context.team_size, heard, *slots)
+    return EgocentricPolicy(load_policy(path, option_team=option_team), transform)
+
+
 @dataclass(frozen=True)
 class EgocentricPolicyTeamConfig:
     """``path``: a ``teamenv-mlp-v1`` file, with or without egocentric slots."""
@@ -108,18 +137,10 @@ class EgocentricPolicyTeam:
         if options.path is None:
             raise PolicyFileError(f"egocentric policy team ({context.side}): 'path' (a "
                                   f"policy file) is required")
-        slots = egocentric_slots(options.path)
-        if slots is None:
+        if egocentric_slots(options.path) is None:
             self.team = PolicyTeam(context, path=options.path)
             return
-        if context.observation_mode != "state":
-            raise PolicyFileError(f"policy file {options.path!r}: egocentric slots read "
-                                  f"state-mode observations; the env uses "
-                                  f"{context.observation_mode!r}")
-        heard = int(comms.get_profile(context.channel).max_heard)
-        transform = EgocentricObservation(context.team_size, heard, *slots)
-        self.team = PolicyTeam(context, policy=EgocentricPolicy(load_policy(options.path),
-                                                                transform))
+        self.team = PolicyTeam(context, policy=egocentric_policy(options.path, context))
 
     def reset(self, seed: int) -> None:
         self.team.reset(seed)

@@ -57,7 +57,9 @@ class ImitationPPOLearner(PPOLearner):
     """PPO warm-started by cloning ``teacher`` (module docstring).
 
     Args (beyond ``PPOLearner``'s):
-        teacher: the demonstrator's team spec (``chaser``, ``chaser:all_chase=true``, ...).
+        teacher: the demonstrator's team spec (``chaser``, ``chaser:all_chase=true``, ...;
+            None: ``chaser``); with an option team (``TrainingSetup.option_team``) its own
+            rule, which chooses the options it is taught (naming another team is an error).
         dagger_rounds: rounds played by the network after the teacher's own (0: plain
             behaviour cloning).
         bc_epochs, bc_batch, bc_learning_rate: the supervised fit after each round.
@@ -66,11 +68,16 @@ class ImitationPPOLearner(PPOLearner):
         value_epochs: passes of the critic's fit to the last round's returns.
     """
 
-    def __init__(self, setup: TrainingSetup, seed: int = 0, teacher: str = "chaser",
+    def __init__(self, setup: TrainingSetup, seed: int = 0, teacher: str | None = None,
                  dagger_rounds: int = 2, bc_epochs: int = 30, bc_batch: int = 256,
                  bc_learning_rate: float = 1e-3, bc_log_std: float = -1.5,
                  value_epochs: int = 10, **ppo_options) -> None:
-        self.teacher = parse_teacher(teacher, setup)
+        if setup.option_team:  # the option team's own rule demonstrates its options
+            if teacher not in (None, setup.option_team):
+                raise ConfigError(f"imitation: with option_team {setup.option_team!r} the "
+                                  f"teacher is that team's own rule; got teacher {teacher!r}")
+            teacher = setup.option_team
+        self.teacher = parse_teacher("chaser" if teacher is None else teacher, setup)
         for name, value in (("dagger_rounds", dagger_rounds), ("bc_epochs", bc_epochs),
                             ("bc_batch", bc_batch), ("value_epochs", value_epochs)):
             if isinstance(value, bool) or not isinstance(value, int) or value < (
@@ -127,15 +134,24 @@ class ImitationPPOLearner(PPOLearner):
                 obs_r, labels_r, rewards, dones = [], [], [], []
                 agreement = []
                 for _ in range(per_round):
-                    target = env.teacher_outputs()
                     obs_r.append(obs)
+                    if env.option_count:  # the rule's choice is known after its first cycle
+                        action = None if r == 0 else self.act(obs)
+                        obs_next, reward, done, _ = env.step(action)
+                        target = env.option_labels()
+                        if r > 0:  # the share of decisions whose option differs
+                            agreement.append(float(np.mean(
+                                env.chosen_options(action) != target.argmax(axis=1))))
+                    else:
+                        target = env.teacher_outputs()
+                        action = target if r == 0 else self.act(obs)
+                        if r > 0:  # on the entries that count (label_mask)
+                            mask = self.label_mask(obs, env.gate_m)
+                            error = (mask * np.abs(action - target)).sum()
+                            agreement.append(error / max(mask.sum(), 1.0))
+                        obs_next, reward, done, _ = env.step(action)
                     labels_r.append(target)
-                    action = target if r == 0 else self.act(obs)
-                    if r > 0:  # on the entries that count (label_mask)
-                        mask = self.label_mask(obs, env.gate_m)
-                        error = (mask * np.abs(action - target)).sum()
-                        agreement.append(error / max(mask.sum(), 1.0))
-                    obs, reward, done, _ = env.step(action)
+                    obs = obs_next
                     rewards.append(reward)
                     dones.append(done)
                 observations.append(np.concatenate(obs_r))
@@ -145,7 +161,8 @@ class ImitationPPOLearner(PPOLearner):
                 self.clone_log.append({
                     "round": r, "played_by": "teacher" if r == 0 else "network",
                     "samples": int(len(x)), "bc_loss": loss,
-                    "mean_abs_error_when_played": float(np.mean(agreement)) if agreement
+                    ("option_disagreement_when_played" if env.option_count else
+                     "mean_abs_error_when_played"): float(np.mean(agreement)) if agreement
                     else None,
                     "goals_for": int(sum(e.goals_for for e in env.episodes)),
                     "goals_against": int(sum(e.goals_against for e in env.episodes))})

@@ -5,7 +5,8 @@ first generation, and so on. Each file holds the network with the action setup f
 its output layer and the reflexes (kick gate, walk to the ball, action repeat) as entries, so
 it plays exactly as the learner acted — through the ``policy`` team for a raw-row file
 (``policy:path=...``), through ``teamenv.selfplay.egocentric_team`` for one that reads
-egocentric slots (``SnapshotPool.spec`` gives the right one). A file is written to a
+egocentric slots, through the option team for one that scores its options
+(``full_options:path=...``; ``SnapshotPool.spec`` gives the right one). A file is written to a
 temporary name and renamed into place, so a kill leaves either the whole file or none.
 """
 
@@ -19,10 +20,14 @@ import numpy as np
 
 from teamenv.input_files import read_npz
 from teamenv.policy_team import PolicyFileError, save_mlp_policy
-from teamenv.selfplay.egocentric_team import TEAM_SPEC_NAME, add_egocentric_slots
+from teamenv.selfplay.egocentric_team import (
+    TEAM_SPEC_NAME,
+    add_egocentric_slots,
+    add_option_team,
+)
 from teamenv.selfplay.learner import PolicyWeights
 from teamenv.selfplay.training_setup import TrainingSetup, kick_gate_m
-from teamenv.tournament.spec import TeamSpec
+from teamenv.tournament.spec import TeamSpec, parse_team_spec
 
 SNAPSHOT_DIR = "snapshots"
 
@@ -92,6 +97,8 @@ class SnapshotPool:
             walk_to_ball=s.actions.walk_to_ball, action_repeat=s.actions.action_repeat)
         if s.observation == "egocentric":
             add_egocentric_slots(temporary, s.teammate_slots, s.opponent_slots)
+        if s.option_team:
+            add_option_team(temporary, parse_team_spec(s.option_team).name, s.actions.size)
         with temporary.open("rb") as fh:
             os.fsync(fh.fileno())
         os.replace(temporary, final)
@@ -101,6 +108,10 @@ class SnapshotPool:
     def spec(self, generation: int) -> TeamSpec:
         """The team spec that plays the snapshot of ``generation`` (absolute path: tournament
         workers and training envs find it from any working directory)."""
+        if self.setup.option_team:
+            spec = parse_team_spec(self.setup.option_team)
+            return TeamSpec.of(spec.name, {**spec.config_dict,
+                                           "path": str(self.path(generation))})
         if self.setup.observation == "egocentric":
             return TeamSpec.of(TEAM_SPEC_NAME, {"path": str(self.path(generation))})
         return TeamSpec.of("policy", {"path": str(self.path(generation))})

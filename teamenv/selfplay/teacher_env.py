@@ -78,13 +78,19 @@ class TeacherBatchEnv(TeamBatchEnv):
         self._learned_idx = np.array(a.learned)
 
     def _learning_side_options(self) -> dict[str, Any]:
+        if self.option_spec is not None:  # the option team's own rule is the teacher
+            return super()._learning_side_options()
         agents = [f"{LEARNER_SIDE}_{k + 1}" for k in range(self.setup.team_size)]
         return {"left": self.teacher.name, "left_config": self.teacher.config_dict,
                 "caller_agents": agents}
 
     def teacher_outputs(self) -> np.ndarray:
         """The teacher's actions now, one row per slot, in the network's output space
-        (n_slots, action_size): the labels for the current observations."""
+        (n_slots, action_size): the labels for the current observations. (With an option
+        team the labels come after the decision's first cycle: ``option_labels``.)"""
+        if self.option_spec is not None:
+            raise ConfigError("training env: an option team's labels are its rule's choices "
+                              "at the decision (step, then option_labels)")
         out = np.zeros((self.n_slots, self.action_size), dtype=np.float32)
         for copy in range(self.copies):
             env = self._env[copy]

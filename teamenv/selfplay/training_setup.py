@@ -94,6 +94,14 @@ class ActionSetup:
         return low, high
 
 
+def option_actions(options: int, action_repeat: int = 5) -> ActionSetup:
+    """The action setup of a network that scores ``options`` options (``TrainingSetup``'s
+    ``option_team``): one output per option in the first Box entries, no reflexes."""
+    return ActionSetup(learned=tuple(range(options)), scale=(1.0,) * options,
+                       fixed=(0.0,) * ACTION_SIZE, kick_gate=False, walk_to_ball=False,
+                       action_repeat=action_repeat)
+
+
 @dataclass(frozen=True)
 class TrainingSetup:
     """The learning side's training episodes.
@@ -117,6 +125,11 @@ class TrainingSetup:
         gamma: the learner's discount per decision (``actions.action_repeat`` cycles); the
             shaping uses ``gamma ** (1 / action_repeat)`` per cycle, and a decision's reward is
             its cycles' rewards discounted by that, so the shaping is exact per decision.
+        option_team: "" (the network's outputs are Box actions), or the team spec of a team
+            that plays options the network chooses (e.g. ``full_options``,
+            ``strategy.teams.full_options``): the learning side is that team, the network
+            scores its options for every player (``actions`` = ``option_actions(k)``, the
+            highest score wins) and the team plays them with its own skills.
     """
 
     field: str = "simspark"
@@ -130,6 +143,7 @@ class TrainingSetup:
     shaping: Mapping[str, float] = dataclass_field(
         default_factory=lambda: {"ball_to_goal": 1.0, "team_to_ball": 0.5})
     gamma: float = 0.99
+    option_team: str = ""
 
     def __post_init__(self) -> None:
         field_preset(self.field)
@@ -165,6 +179,19 @@ class TrainingSetup:
         object.__setattr__(self, "shaping", {k: float(v) for k, v in self.shaping.items()})
         if not (isinstance(self.gamma, (int, float)) and 0.0 < self.gamma <= 1.0):
             raise ConfigError(f"training: gamma must be in (0, 1], got {self.gamma!r}")
+        if not isinstance(self.option_team, str):
+            raise ConfigError(f"training: option_team must be a team spec string ('' for "
+                              f"none), got {self.option_team!r}")
+        if self.option_team:
+            a = self.actions
+            if a.kick_gate or a.walk_to_ball or a.learned != tuple(range(a.size)) or \
+                    any(f != 0.0 for f in a.fixed) or any(x != 1.0 for x in a.scale):
+                raise ConfigError(f"training: option_team {self.option_team!r}: the network "
+                                  f"scores options; use actions=option_actions(k) (got "
+                                  f"{asdict(a)})")
+            if self.observation != "egocentric":
+                raise ConfigError(f"training: option_team {self.option_team!r} reads "
+                                  f"egocentric observations, got {self.observation!r}")
 
     @property
     def cycle_gamma(self) -> float:

@@ -1,0 +1,119 @@
+"""The full team with a learned choice of who plays the ball: ``full_options``.
+
+Why it exists. PPO could not learn a 3 v 3 team that beats ``chaser`` from walk and kick
+commands, from scratch or from a clone of ``chaser`` (docs/selfplay.md), and no scripted
+3 v 3 team beats it either; at 5 v 5 ``full`` does, by its positioning and kick choice. So
+the learned team here decides what the team-play layer of a RoboCup team decides — in open
+play, which field player plays the ball, which one covers goal-side of it and which ones hold
+their formation positions (``strategy.decision.field_player.OPTIONS``) — and plays the chosen
+option with ``full``'s skills: its positioning, kicks, set plays, goalie and talk. That is
+the usual split of a hierarchical team (options over scripted skills, as in Google Research
+Football's or agent2d's action sets), and it keeps what is learned small enough for this
+project's CPU budget.
+
+One team, three uses:
+
+- ``full_options`` alone (no ``path``) is ``full`` exactly: the team's own rule chooses (the
+  teacher of imitation learning, and a test that the hook changes nothing);
+- with ``path`` (a ``teamenv-mlp-v1`` file marked ``option_team = full_options``), every
+  ``action_repeat``-th cycle one network call for all agents scores the options from each
+  agent's egocentric row (``teamenv.egocentric``), the highest score wins, and the choice is
+  held until the next decision;
+- the self-play league's training env drives it from outside (``choose``), and reads what
+  the rule would have chosen (``rule_options``) as the imitation label.
+
+The goalie's decisions and everything outside open play (kick-offs, set plays, beaming,
+getting up) stay ``full``'s: an option only applies to a field player in play on.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from strategy.decision.field_player import HOLD, OPTIONS
+from strategy.teams.full import FullTeam
+from strategy.teams.full_config import FullTeamConfig
+from teamenv.box_layout import flatten_observation
+from teamenv.errors import ConfigError
+from teamenv.team_config import team_config
+from teamenv.teams import TeamContext
+
+#: The team's registered name: what a policy file's ``option_team`` entry names.
+TEAM_NAME = "full_options"
+
+
+class FullOptionsTeam(FullTeam):
+    """``FullTeam`` whose open-play options come from a policy file (``path``) or from the
+    caller (``choose``); config keys: ``path`` and the fields of ``FullTeamConfig``."""
+
+    name = TEAM_NAME
+    option_names = OPTIONS
+
+    def __init__(self, context: TeamContext, **config: Any) -> None:
+        config = dict(config)
+        path = config.pop("path", None)
+        team_config(self.name, FullTeamConfig, config)
+        super().__init__(context, **config)
+        self.agent_index = {agent: k for k, agent in enumerate(context.agents)}
+        self.policy = None
+        if path is not None:
+            if not isinstance(path, (str, Path)):
+                raise ConfigError(f"{self.name} team ({context.side}): path must be a policy "
+                                  f"file name, got {path!r}")
+            # imported here: teamenv.selfplay is the league's, the team only reads its file
+            from teamenv.policy_team.mlp_file import option_team
+            from teamenv.selfplay.egocentric_team import egocentric_policy
+
+            self.policy = egocentric_policy(path, context, option_team=self.name)
+            count = option_team(path)[1]
+            if count != len(OPTIONS):
+                raise ConfigError(f"{self.name} team ({context.side}): policy file {path!r} "
+                                  f"scores {count} options; this team has {len(OPTIONS)} "
+                                  f"{OPTIONS}")
+            self.action_repeat = int(self.policy.action_repeat)
+        self._cycle = 0
+
+    def reset(self, seed: int) -> None:
+        super().reset(seed)
+        self.choose(None)
+        self._cycle = 0
+
+    def choose(self, options: Mapping[str, int] | None) -> None:
+        """Play ``options`` (agent -> index into ``OPTIONS``) from the next ``act`` on, until
+        changed; None: the team's own rule chooses."""
+        if options is None:
+            self.field_maker.option_override = None
+            return
+        override = {}
+        for agent, option in options.items():
+            if agent not in self.agent_index:
+                raise ConfigError(f"{self.name} team: no agent {agent!r} on this side "
+                                  f"({list(self.agent_index)})")
+            if isinstance(option, bool) or not isinstance(option, (int, np.integer)) or \
+                    not 0 <= option < len(OPTIONS):
+                raise ConfigError(f"{self.name} team: {agent}: option must be an int in "
+                                  f"0..{len(OPTIONS) - 1} {OPTIONS}, got {option!r}")
+            override[self.agent_index[agent]] = int(option)
+        self.field_maker.option_override = override
+
+    def rule_options(self, agents: Sequence[str]) -> np.ndarray:
+        """(len(agents),) the option the team's own rule chose for each agent at its last
+        open-play decision (``HOLD`` for one that has made none: the goalie, or before play
+        on)."""
+        chosen = self.field_maker.chosen_options
+        return np.array([chosen.get(self.agent_index[a], HOLD) for a in agents], dtype=np.int64)
+
+    def act(self, observations: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[str, Any]]:
+        if self.policy is not None and observations:
+            if self._cycle % self.action_repeat == 0:
+                agents = list(observations)
+                rows = np.stack([flatten_observation(observations[a]) for a in agents])
+                scores = self.policy.network_actions(rows)[:, :len(OPTIONS)]
+                self.choose(dict(zip(agents, np.argmax(scores, axis=1).tolist(),
+                                     strict=True)))
+            self._cycle += 1
+        return super().act(observations)
