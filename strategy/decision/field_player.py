@@ -101,6 +101,8 @@ class FieldPlayerDecisionMaker:
                 open_play.append(i)
             else:
                 plans[i] = self._set_piece(wm, positioning)
+            if i not in open_play[-1:]:  # no open-play option while down or in a set play
+                self.chosen_options.pop(wm.me, None)
         if open_play:
             self._open_play([wms[i] for i in open_play], [positionings[i] for i in open_play],
                             open_play, plans)

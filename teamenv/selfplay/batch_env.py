@@ -122,6 +122,7 @@ class TeamBatchEnv:
         self._opponent_label = [""] * self.copies
         self._seed_now = [0] * self.copies
         self._labels = np.zeros(self.n_slots, dtype=np.int64)
+        self._played = np.zeros(self.n_slots, dtype=np.int64)
         self.episodes = []
 
     def _make_env(self, opponent) -> SoccerParallelEnv:
@@ -163,10 +164,11 @@ class TeamBatchEnv:
         host = env.team_host
         team = host.teams[LEARNER_SIDE]
         names = getattr(team, "option_names", None)
-        if not callable(getattr(team, "choose", None)) or \
-                not callable(getattr(team, "rule_options", None)) or names is None:
+        if any(not callable(getattr(team, m, None))
+               for m in ("choose", "rule_options", "options_from_scores")) or names is None:
             raise ConfigError(f"training: option_team {self.setup.option_team!r} does not take "
-                              f"options (it needs choose, rule_options and option_names)")
+                              f"options (it needs choose, options_from_scores, rule_options "
+                              f"and option_names)")
         if len(names) != self.setup.actions.size:
             raise ConfigError(f"training: option_team {self.setup.option_team!r} has "
                               f"{len(names)} options {tuple(names)}, the network scores "
@@ -212,10 +214,10 @@ class TeamBatchEnv:
         full[:, self._learned] += outputs * self._scale
         return np.clip(full, -1.0, 1.0)
 
-    def chosen_options(self, outputs: np.ndarray) -> np.ndarray:
-        """The option each slot plays for network outputs (n, k): the highest score after
-        the env's clipping (a tie: the lower index), as the snapshot's team chooses."""
-        return np.argmax(self.box_actions(outputs)[:, :self.option_count], axis=1)
+    def played_options(self) -> np.ndarray:
+        """(n_slots,) the option each slot played in the last decision (an option team's:
+        ``options_from_scores`` of the network's outputs, or its rule's)."""
+        return self._played.copy()
 
     def option_labels(self) -> np.ndarray:
         """(n_slots, k) what the option team's rule chose at the first cycle of the last
@@ -244,7 +246,7 @@ class TeamBatchEnv:
             rows = self._rows(copy)
             if self.option_spec is not None:
                 reward, ended, truncated = self._play_options(
-                    copy, None if full is None else self.chosen_options(outputs[rows]))
+                    copy, None if full is None else full[rows, :self.option_count])
             else:
                 reward, ended, truncated = self._decide(copy, full[rows])
             rewards[rows] = reward
@@ -276,20 +278,26 @@ class TeamBatchEnv:
                 return total, True, bool(trunc[first] and not term[first])
         return total, False, False
 
-    def _play_options(self, copy: int, options: np.ndarray | None
+    def _play_options(self, copy: int, scores: np.ndarray | None
                       ) -> tuple[np.ndarray, bool, bool]:
-        """``_decide`` with an option team: it plays ``options`` (None: its rule's) for
+        """``_decide`` with an option team: it plays the options its ``options_from_scores``
+        makes of the network's ``scores`` (clipped outputs; None: its rule's choices) for
         ``action_repeat`` cycles, deciding how every cycle itself."""
         env, rows = self._env[copy], self._rows(copy)
         team = self._teams[copy][self._opponent_label[copy]]
-        team.choose(None if options is None else dict(zip(self.agents, options.tolist(),
-                                                          strict=True)))
+        options = None if scores is None else \
+            team.options_from_scores(self.agents, self._raw[rows], scores)
+        team.choose(options)
+        if options is not None:
+            self._played[rows] = [options[a] for a in self.agents]
         gamma, discount = self.setup.cycle_gamma, 1.0
         total = np.zeros(self.team_size)
         for cycle in range(self.setup.actions.action_repeat):
             act = team.act(env.team_host.observations[LEARNER_SIDE])
             if cycle == 0:
                 self._labels[rows] = team.rule_options(self.agents)
+                if options is None:
+                    self._played[rows] = self._labels[rows]
             obs, rew, term, trunc, infos = env.step(act)
             total += discount * np.array([rew[x] for x in self.agents])
             discount *= gamma

@@ -141,7 +141,7 @@ class ImitationPPOLearner(PPOLearner):
                         target = env.option_labels()
                         if r > 0:  # the share of decisions whose option differs
                             agreement.append(float(np.mean(
-                                env.chosen_options(action) != target.argmax(axis=1))))
+                                env.played_options() != target.argmax(axis=1))))
                     else:
                         target = env.teacher_outputs()
                         action = target if r == 0 else self.act(obs)

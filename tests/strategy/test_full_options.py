@@ -107,12 +107,30 @@ def _option_file(path, scores: np.ndarray, count: int = len(OPTIONS), team="full
     return path
 
 
-def test_a_policy_file_plays_its_highest_scoring_option(tmp_path):
-    path = _option_file(tmp_path / "cover.npz", np.array([-0.5, 0.7, 0.1]))
+def test_a_policy_file_plays_the_team_its_scores_rank(tmp_path):
+    path = _option_file(tmp_path / "tied.npz", np.array([-0.5, 0.7, 0.1]))
     env, team = _team_env(path=str(path))
     for _ in range(200):
         env.step({})
-    assert team.field_maker.option_override == dict.fromkeys(range(5), COVER)
+    # every player scores the same: the first field player plays the ball, the second covers
+    assert team.field_maker.option_override == {0: HOLD, 1: PLAY_BALL, 2: COVER, 3: HOLD,
+                                                4: HOLD}
+    env.close()
+
+
+def test_scores_make_one_ball_player_and_one_cover_among_the_upright_field_players():
+    env, team = _team_env()
+    rows = np.zeros((5, 9))
+    scores = np.array([[0.9, 0.9, 0.0],    # the goalie: never chosen
+                       [0.1, 0.8, 0.0],
+                       [0.8, 0.2, 0.0],
+                       [0.95, 0.1, 0.0],   # down: never chosen
+                       [0.3, 0.9, 0.0]])
+    rows[3, 6] = 1.0
+    assert team.options_from_scores(AGENTS, rows, scores) == {
+        "left_1": HOLD, "left_2": HOLD, "left_3": PLAY_BALL, "left_4": HOLD, "left_5": COVER}
+    rows[1:, 6] = 1.0  # everyone down but the goalie: nobody
+    assert set(team.options_from_scores(AGENTS, rows, scores).values()) == {HOLD}
     env.close()
 
 

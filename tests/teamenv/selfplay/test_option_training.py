@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import teamenv
-from strategy.decision.field_player import COVER, OPTIONS, PLAY_BALL
+from strategy.decision.field_player import COVER, HOLD, OPTIONS, PLAY_BALL
 from teamenv.errors import ConfigError
 from teamenv.selfplay.batch_env import OPTION_LABEL, TeamBatchEnv
 from teamenv.selfplay.learner import PolicyWeights
@@ -48,18 +48,26 @@ def test_the_rules_demonstration_is_full_and_its_labels_are_its_choices():
 
 
 def test_the_network_outputs_are_the_options_played():
+    """Each decision: the upright field player with the highest play_ball output plays the
+    ball, the one of the others with the highest cover output covers, the rest hold."""
     env = TeamBatchEnv(SETUP, OpponentMix.single("static", 0), copies=1, seed=5)
     env.reset()
     rng = np.random.default_rng(0)
     try:
         for _ in range(30):
             outputs = rng.uniform(-1.5, 1.5, (5, 3)).astype(np.float32)
+            upright = env._raw[:, 6] < 0.5
             env.step(outputs)
-            expected = np.argmax(np.clip(outputs, -1.0, 1.0), axis=1)
+            scores = np.clip(outputs, -1.0, 1.0)
+            free = np.flatnonzero(upright[1:]) + 1          # field players (left_1 keeps goal)
+            ball = free[np.argmax(scores[free, PLAY_BALL])]
+            rest = free[free != ball]
+            cover = rest[np.argmax(scores[rest, COVER])]
+            expected = np.full(5, HOLD)
+            expected[[ball, cover]] = PLAY_BALL, COVER
+            np.testing.assert_array_equal(env.played_options(), expected)
             team = env._teams[0]["static"]
             assert team.field_maker.option_override == dict(enumerate(expected.tolist()))
-        # clipped ties go to the lower index, as a snapshot's argmax does
-        np.testing.assert_array_equal(env.chosen_options(np.array([[2.0, 3.0, -1.0]])), [0])
     finally:
         env.close()
 
@@ -75,8 +83,9 @@ def test_the_teacher_env_is_the_option_teams_rule():
 
 
 def test_a_snapshot_plays_the_options_the_training_env_would_choose(tmp_path):
-    """A network with a fixed bias (cover for all) written as a snapshot: its team spec is
-    ``full_options:path=...`` and the team plays cover."""
+    """A network with a fixed output written as a snapshot: its team spec is
+    ``full_options:path=...``, and with every score tied the first field player plays the
+    ball, the second covers."""
     env = TeamBatchEnv(SETUP, OpponentMix.single("static", 0), seed=0)
     size = env.observation_size
     env.close()
@@ -92,7 +101,8 @@ def test_a_snapshot_plays_the_options_the_training_env_would_choose(tmp_path):
     for _ in range(10):
         game.step({})
     team = game.unwrapped.team_host.teams["left"]
-    assert team.field_maker.option_override == dict.fromkeys(range(5), COVER)
+    assert team.field_maker.option_override == {0: HOLD, 1: PLAY_BALL, 2: COVER, 3: HOLD,
+                                                4: HOLD}
     game.close()
 
 
