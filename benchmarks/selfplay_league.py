@@ -112,6 +112,11 @@ def demo_config(smoke: bool, learner: str = "imitation") -> LeagueConfig:
         learner_options={"copies": 4, "n_steps": 256, "batch_size": 512, "n_epochs": 10})
 
 
+#: The evaluations (``--evaluate``): the trained snapshot against chaser and full, the
+#: untrained one and the teacher against chaser.
+EVAL_GAMES = ("learned:chaser", "learned:full", "untrained:chaser", "teacher:chaser")
+
+
 def goal_difference(scores) -> dict:
     """Mean goal difference per match with its 95 % BCa bootstrap interval over matches."""
     diff = np.array([a - b for a, b in scores], dtype=np.float64)
@@ -164,6 +169,10 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--evaluate", type=int, default=0,
                         help="evaluation matches against chaser and against full (0: none)")
     parser.add_argument("--eval-half-time", type=float, default=45.0)
+    parser.add_argument("--eval-games", default=",".join(EVAL_GAMES),
+                        help="which evaluations to play, comma-separated, of "
+                             f"{','.join(EVAL_GAMES)} (the others already in --report are "
+                             "kept: a long evaluation can be split over runs or machines)")
     parser.add_argument("--curve", type=Path, default=None,
                         help="default docs/selfplay_rating_curve.png (smoke: in the run dir)")
     parser.add_argument("--json", type=Path, default=None,
@@ -248,12 +257,22 @@ def main(argv: list[str] | None = None) -> None:
         report = {"snapshot": best, "policy_file": str(policy), "team_spec": spec.name,
                   "rating": final.bradley_terry[best].__dict__, "options": options.to_dict(),
                   "seeds": [seeds[0], seeds[-1]], "opponents": {}}
+        wanted = set(args.eval_games.split(","))
+        unknown = wanted - set(EVAL_GAMES)
+        if unknown:
+            parser.error(f"--eval-games: unknown {sorted(unknown)}; choose from {EVAL_GAMES}")
+        if report_path.is_file():  # keep what an earlier run evaluated of the same setup
+            earlier = json.loads(report_path.read_text())
+            if all(earlier.get(k) == report[k] for k in ("snapshot", "options", "seeds")):
+                report = {**earlier, **{k: v for k, v in report.items() if k != "opponents"}}
         games = [("learned", best, policy, "chaser"), ("learned", best, policy, "full"),
                  ("untrained", "gen-0000", pool.path(0), "chaser")]
         teacher = config.learner_options.get("teacher") or config.training.option_team or None
         if teacher is not None:  # what the clone was taught: the teacher against chaser
             games.append(("teacher", str(teacher), None, "chaser"))
         for role, name, path, opponent in games:
+            if f"{role}:{opponent}" not in wanted:
+                continue
             t0 = time.perf_counter()
             team, team_config = (spec.name, {"path": str(path)}) if path is not None else (
                 parse_team_spec(name).name, parse_team_spec(name).config_dict)

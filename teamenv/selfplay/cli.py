@@ -40,6 +40,9 @@ _CONFIG_OPTIONS = (
     ("--action-repeat", "action_repeat", int, "cycles per decision (default 5)"),
     ("--walk-to-ball", "walk_to_ball", str,
      "true: walking is a reflex (at the ball), the network only kicks (default false)"),
+    ("--option-team", "option_team", str,
+     "a team that plays options the network scores, e.g. full_options (its open-play "
+     "options: play the ball, cover, hold); default none: the network's outputs are actions"),
     ("--shaping", "shaping", str, "potential-based shaping, NAME=WEIGHT,... over ball_to_goal "
      "and team_to_ball, or none (default ball_to_goal=1,team_to_ball=0.5)"),
     ("--gamma", "gamma", float, "discount per decision (default 0.99)"),
@@ -146,6 +149,8 @@ def build_config(args: argparse.Namespace, base: dict[str, Any] | None = None):
             data["training"][key] = value
         elif key == "shaping":
             data["training"]["shaping"] = _weights(value, "--shaping")
+        elif key == "option_team":
+            data["training"]["option_team"] = value
         elif key in _ACTION_KEYS:
             if key == "walk_to_ball":
                 if value.lower() not in ("true", "false"):
@@ -165,7 +170,39 @@ def build_config(args: argparse.Namespace, base: dict[str, Any] | None = None):
             raise ConfigError(f"--learner-option: expected KEY=VALUE, got {item!r}")
         options[key.strip()] = parse_value(raw.strip())
     data["learner_options"] = options
+    if "option_team" in given:
+        data["training"]["actions"] = _option_actions(data["training"])
     return LeagueConfig.from_json(data), bool(given or args.learner_option)
+
+
+def _option_actions(training: dict[str, Any]) -> dict[str, Any]:
+    """The action setup (JSON) of a network that scores the options of the training's
+    ``option_team`` (none: the default action setup, keeping its action repeat)."""
+    from dataclasses import asdict
+
+    from teamenv.selfplay.training_setup import ActionSetup, option_actions
+    from teamenv.errors import TeamLoadError
+    from teamenv.teams import resolve_team_class
+    from teamenv.tournament.errors import TournamentError
+    from teamenv.tournament.spec import parse_team_spec
+
+    repeat = training.get("actions", {}).get("action_repeat", 5)
+    if not training["option_team"]:
+        actions = ActionSetup(action_repeat=repeat)
+    else:
+        try:
+            cls = resolve_team_class(parse_team_spec(training["option_team"]).name)
+        except (TeamLoadError, TournamentError) as exc:
+            raise ConfigError(f"--option-team: {exc}") from None
+        names = getattr(cls, "option_names", None)
+        if names is None:
+            raise ConfigError(f"--option-team {training['option_team']!r}: the team plays no "
+                              f"options (no option_names); full_options does")
+        actions = option_actions(len(names), repeat)
+    out = asdict(actions)
+    for key in ("learned", "scale", "fixed"):
+        out[key] = list(out[key])
+    return out
 
 
 def _weights(text: str, flag: str) -> dict[str, float]:

@@ -42,3 +42,19 @@ def test_the_demo_run_writes_its_curve_record_and_evaluation(tmp_path):
         low, high = result["goal_difference_per_match"]["ci95"]
         assert low <= result["goal_difference_per_match"]["mean"] <= high
     assert (tmp_path / "best.npz").is_file()
+
+
+def test_the_options_demo_clones_full_and_its_snapshots_play_full_options(tmp_path):
+    pytest.importorskip("stable_baselines3", reason="needs the rl extra: pip install -e '.[rl]'")
+    demo = load_benchmark("selfplay_league")
+    demo.main(["--smoke", "--learner", "options", "--run-dir", str(tmp_path), "--evaluate",
+               "1", "--eval-half-time", "3"])
+    record = json.loads((tmp_path / "league.json").read_text())
+    assert record["generations_rated"] == 2
+    assert record["config"]["training"]["option_team"] == "full_options"
+    clone = json.loads((tmp_path / "learner" / "gen-0001" / "imitation.json").read_text())
+    assert [r["played_by"] for r in clone["clone_log"]] == ["teacher", "network"]
+    assert 0.0 <= clone["clone_log"][1]["option_disagreement_when_played"] <= 1.0
+    report = json.loads((tmp_path / "evaluation.json").read_text())
+    assert report["team_spec"] == "full_options"
+    assert report["teacher"]["chaser"]["snapshot"] == "full_options"

@@ -194,6 +194,10 @@ def test_a_snapshot_acts_as_the_training_env_does(tmp_path):
     (["ratings", "{dir}"], "holds no league"),
     (["run", "{dir}", "--generations", "-1"], "expected a whole number >= 0"),
     (["run", "{dir}", "--steps", "many"], "expected a whole number, got 'many'"),
+    (["run", "{dir}", "--option-team", "chaser"], "'chaser': the team plays no options"),
+    (["run", "{dir}", "--option-team", "nosuchteam"], "unknown team 'nosuchteam'"),
+    (["run", "{dir}", "--option-team", "full_options", "--observation", "box"],
+     "reads egocentric observations"),
 ])
 def test_bad_command_line_input_gives_one_clear_line(tmp_path, capsys, argv, message):
     argv = ["selfplay", *(a.format(dir=tmp_path / "run") for a in argv)]
