@@ -61,11 +61,11 @@ IMITATION_OPTIONS = {"teacher": "chaser", "dagger_rounds": 2, "bc_epochs": 30,
 
 
 #: The options run's training: 5 v 5 on the league's field (where ``full`` beats ``chaser``,
-#: docs/selfplay.md), egocentric slots for every other player, one network scoring the three
-#: open-play options of ``full_options`` every 5 cycles.
+#: docs/selfplay.md), egocentric slots for every other player and the ball-race columns, one
+#: network scoring the three open-play options of ``full_options`` every 5 cycles.
 OPTIONS_TRAINING = TrainingSetup(field="mj7v7", team_size=5, episode_s=60.0, teammate_slots=4,
                                  opponent_slots=5, actions=option_actions(3),
-                                 option_team="full_options")
+                                 option_team="full_options", ball_race=True)
 #: Its learner: the clone of the rule (three rounds: the rule's own, two DAgger), then PPO at
 #: a learning rate that keeps it near the clone.
 OPTIONS_LEARNER = {"copies": 4, "n_steps": 256, "batch_size": 512, "n_epochs": 5,

@@ -21,6 +21,13 @@ messages are left out (their count depends on the say channel, and a policy that
 talk has little use for them). The length no longer depends on the team size: a policy
 trained with 2 teammate and 3 opponent slots plays 3 v 3 and 7 v 7 alike.
 
+With ``ball_race=True`` three columns follow (``BALL_RACE_NAMES``): the agent's distance to
+the ball, and how much farther from it the nearest upright teammate and the nearest upright
+opponent stand (negative: nearer). Why: a team choosing its ball player needs "who is
+nearest the ball", which the slots (sorted by distance to the agent, not to the ball) hold
+only implicitly; a network cloned from ``full``'s choice without them picked a ball player
+other than the rule's in 31 % of open play, on average 2.2 m farther from the ball.
+
 Exact and portable: the sort key is ``rel_x**2 + rel_y**2`` (correctly rounded basic
 operations, the same on every machine), ties keep uniform-number order (a stable sort), and
 the agent's own row is the one at distance exactly 0 (the env writes ``x - x``; two bodies
@@ -39,6 +46,10 @@ from teamenv.slots import state_slot_names
 _HEAD_PARTS = ("self.", "ball.")
 #: The parts kept after the slots.
 _TAIL_PARTS = ("play_mode.", "game.")
+#: The optional ball-race columns, last (``ball_race=True``).
+BALL_RACE_NAMES = ("ball_race.distance", "ball_race.teammate_gap", "ball_race.opponent_gap")
+#: The cap of the ball-race columns (m): nobody else in the race reads as this far behind.
+BALL_RACE_CAP_M = 20.0
 
 
 class EgocentricObservation:
@@ -58,13 +69,17 @@ class EgocentricObservation:
     """
 
     def __init__(self, team_size: int, heard_slots: int, teammates: int = 2,
-                 opponents: int = 3) -> None:
+                 opponents: int = 3, ball_race: bool = False) -> None:
         for name, value in (("team_size", team_size), ("heard_slots", heard_slots),
                             ("teammates", teammates), ("opponents", opponents)):
             if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 0:
                 raise ConfigError(f"egocentric slots: {name} must be an int >= 0, got {value!r}")
         if team_size < 1:
             raise ConfigError(f"egocentric slots: team_size must be >= 1, got {team_size!r}")
+        if not isinstance(ball_race, (bool, np.bool_)):
+            raise ConfigError(f"egocentric slots: ball_race must be true or false, got "
+                              f"{ball_race!r}")
+        self.ball_race = bool(ball_race)
         self.team_size, self.heard_slots = int(team_size), int(heard_slots)
         self.teammates, self.opponents = int(teammates), int(opponents)
         raw = state_slot_names(self.team_size, self.heard_slots)
@@ -80,17 +95,20 @@ class EgocentricObservation:
             [raw[k] for k in self._head]
             + [f"teammate_near_{s + 1}.{c}" for s in range(self.teammates) for c in PLAYER_COLUMNS]
             + [f"opponent_near_{s + 1}.{c}" for s in range(self.opponents) for c in PLAYER_COLUMNS]
-            + [raw[k] for k in self._tail])
+            + [raw[k] for k in self._tail]
+            + (list(BALL_RACE_NAMES) if self.ball_race else []))
+        self._ball = index["ball.rel_x"]
         self.size = len(self.names)
 
     @classmethod
-    def for_env(cls, env, teammates: int = 2, opponents: int = 3) -> EgocentricObservation:
+    def for_env(cls, env, teammates: int = 2, opponents: int = 3,
+                ball_race: bool = False) -> EgocentricObservation:
         """The transform for the state-mode Box observations of ``env`` (a parallel env)."""
         env = env.unwrapped
         if env.perception is not None:
             raise ConfigError("egocentric slots: state-mode observations only (the env uses "
                               "vision)")
-        return cls(env.team_size, env.sim.heard_slots, teammates, opponents)
+        return cls(env.team_size, env.sim.heard_slots, teammates, opponents, ball_race)
 
     def __call__(self, raw: np.ndarray) -> np.ndarray:
         """Egocentric rows (float32) for ``raw`` (n, raw_size) or one row (raw_size,)."""
@@ -107,12 +125,35 @@ class EgocentricObservation:
         opps = rows[:, self._opps:self._opps + size * width].reshape(n, size, width)
         # The agent's own row (distance exactly 0) sorts first among its teammates: drop it.
         own_dropped = self._nearest(mates, size)[:, 1:]
-        out = np.concatenate([
-            rows[:, self._head],
-            self._slots(mates, own_dropped, self.teammates),
-            self._slots(opps, self._nearest(opps, size), self.opponents),
-            rows[:, self._tail]], axis=1)
+        parts = [rows[:, self._head],
+                 self._slots(mates, own_dropped, self.teammates),
+                 self._slots(opps, self._nearest(opps, size), self.opponents),
+                 rows[:, self._tail]]
+        if self.ball_race:
+            parts.append(self._ball_race(rows[:, self._ball:self._ball + 2], mates, opps))
+        out = np.concatenate(parts, axis=1)
         return out[0] if single else out
+
+    @staticmethod
+    def _ball_race(ball: np.ndarray, mates: np.ndarray, opps: np.ndarray) -> np.ndarray:
+        """(n, 3): the agent's distance to the ball, and how much farther from it the
+        nearest upright teammate (the agent left out) and the nearest upright opponent are
+        (negative: nearer), capped at +-``BALL_RACE_CAP_M``."""
+        b = ball.astype(np.float64)
+        mine = np.sqrt(b[:, 0] * b[:, 0] + b[:, 1] * b[:, 1])
+
+        def gap(players: np.ndarray, drop_own: bool) -> np.ndarray:
+            dx = players[:, :, 0].astype(np.float64) - b[:, None, 0]
+            dy = players[:, :, 1].astype(np.float64) - b[:, None, 1]
+            d = np.sqrt(dx * dx + dy * dy)
+            out_of_race = (players[:, :, 4] <= 0.0) | (players[:, :, 3] > 0.0)
+            if drop_own:  # the agent's own row: at distance exactly 0 from itself
+                out_of_race |= (players[:, :, 0] == 0.0) & (players[:, :, 1] == 0.0)
+            d[out_of_race] = np.inf
+            return np.minimum(d.min(axis=1) - mine, BALL_RACE_CAP_M)
+
+        out = np.stack([mine, gap(mates, True), gap(opps, False)], axis=1)
+        return np.clip(out, -BALL_RACE_CAP_M, BALL_RACE_CAP_M).astype(np.float32)
 
     @staticmethod
     def _nearest(players: np.ndarray, count: int) -> np.ndarray:

@@ -40,6 +40,9 @@ _CONFIG_OPTIONS = (
     ("--action-repeat", "action_repeat", int, "cycles per decision (default 5)"),
     ("--walk-to-ball", "walk_to_ball", str,
      "true: walking is a reflex (at the ball), the network only kicks (default false)"),
+    ("--ball-race", "ball_race", str,
+     "true: egocentric rows end with the ball-race columns (distance to the ball, and how "
+     "much farther the nearest teammate and opponent are; default false)"),
     ("--option-team", "option_team", str,
      "a team that plays options the network scores, e.g. full_options (its open-play "
      "options: play the ball, cover, hold); default none: the network's outputs are actions"),
@@ -151,6 +154,10 @@ def build_config(args: argparse.Namespace, base: dict[str, Any] | None = None):
             data["training"]["shaping"] = _weights(value, "--shaping")
         elif key == "option_team":
             data["training"]["option_team"] = value
+        elif key == "ball_race":
+            if value.lower() not in ("true", "false"):
+                raise ConfigError(f"--ball-race: true or false, got {value!r}")
+            data["training"]["ball_race"] = value.lower() == "true"
         elif key in _ACTION_KEYS:
             if key == "walk_to_ball":
                 if value.lower() not in ("true", "false"):

@@ -32,15 +32,21 @@ from teamenv.teams import TeamContext
 #: The team spec name of ``EgocentricPolicyTeam`` (``module:Class``).
 TEAM_SPEC_NAME = "teamenv.selfplay.egocentric_team:EgocentricPolicyTeam"
 SLOT_KEYS = ("egocentric_teammates", "egocentric_opponents")
+#: A file whose rows end with the ball-race columns (``teamenv.egocentric``) says so here.
+BALL_RACE_KEY = "egocentric_ball_race"
 
 
-def add_egocentric_slots(path: str | Path, teammates: int, opponents: int) -> Path:
+def add_egocentric_slots(path: str | Path, teammates: int, opponents: int,
+                         ball_race: bool = False) -> Path:
     """Mark the policy file ``path`` as reading ``teammates`` + ``opponents`` egocentric
-    slots (rewrites it with the two entries added)."""
+    slots, and the ball-race columns when ``ball_race`` (rewrites it with the entries
+    added)."""
     path = Path(path)
     arrays = read_npz(path, f"policy file {str(path)!r}", PolicyFileError)
     arrays[SLOT_KEYS[0]] = np.asarray(int(teammates))
     arrays[SLOT_KEYS[1]] = np.asarray(int(opponents))
+    if ball_race:
+        arrays[BALL_RACE_KEY] = np.asarray(True)
     with path.open("wb") as fh:  # a file object: numpy would append .npz to a bare name
         np.savez(fh, **arrays)
     return path
@@ -116,7 +122,9 @@ def egocentric_policy(path: str | Path, context: TeamContext,
         raise PolicyFileError(f"policy file {str(path)!r}: egocentric slots read state-mode "
                               f"observations; the env uses {context.observation_mode!r}")
     heard = int(comms.get_profile(context.channel).max_heard)
-    transform = EgocentricObservation(context.team_size, heard, *slots)
+    arrays = read_npz(path, f"policy file {str(path)!r}", PolicyFileError)
+    transform = EgocentricObservation(context.team_size, heard, *slots,
+                                      ball_race=bool(arrays.get(BALL_RACE_KEY, False)))
     return EgocentricPolicy(load_policy(path, option_team=option_team), transform)
 
 

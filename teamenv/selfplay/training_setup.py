@@ -125,6 +125,9 @@ class TrainingSetup:
         gamma: the learner's discount per decision (``actions.action_repeat`` cycles); the
             shaping uses ``gamma ** (1 / action_repeat)`` per cycle, and a decision's reward is
             its cycles' rewards discounted by that, so the shaping is exact per decision.
+        ball_race: egocentric rows end with the ball-race columns (``teamenv.egocentric``:
+            the agent's distance to the ball, and how much farther the nearest upright
+            teammate and opponent are), which a team choosing its ball player needs.
         option_team: "" (the network's outputs are Box actions), or the team spec of a team
             that plays options the network chooses (e.g. ``full_options``,
             ``strategy.teams.full_options``): the learning side is that team, the network
@@ -144,6 +147,7 @@ class TrainingSetup:
         default_factory=lambda: {"ball_to_goal": 1.0, "team_to_ball": 0.5})
     gamma: float = 0.99
     option_team: str = ""
+    ball_race: bool = False
 
     def __post_init__(self) -> None:
         field_preset(self.field)
@@ -179,6 +183,12 @@ class TrainingSetup:
         object.__setattr__(self, "shaping", {k: float(v) for k, v in self.shaping.items()})
         if not (isinstance(self.gamma, (int, float)) and 0.0 < self.gamma <= 1.0):
             raise ConfigError(f"training: gamma must be in (0, 1], got {self.gamma!r}")
+        if not isinstance(self.ball_race, bool):
+            raise ConfigError(f"training: ball_race must be true or false, got "
+                              f"{self.ball_race!r}")
+        if self.ball_race and self.observation != "egocentric":
+            raise ConfigError("training: ball_race columns are part of egocentric "
+                              "observations; observation is 'box'")
         if not isinstance(self.option_team, str):
             raise ConfigError(f"training: option_team must be a team spec string ('' for "
                               f"none), got {self.option_team!r}")

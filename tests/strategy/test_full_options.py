@@ -129,6 +129,11 @@ def test_scores_make_one_ball_player_and_one_cover_among_the_upright_field_playe
     rows[3, 6] = 1.0
     assert team.options_from_scores(AGENTS, rows, scores) == {
         "left_1": HOLD, "left_2": HOLD, "left_3": PLAY_BALL, "left_4": HOLD, "left_5": COVER}
+    # the ball player keeps the ball against a score higher by less than SWITCH_MARGIN
+    scores[1, PLAY_BALL] = scores[2, PLAY_BALL] + 0.2
+    assert team.options_from_scores(AGENTS, rows, scores)["left_3"] == PLAY_BALL
+    scores[1, PLAY_BALL] = scores[2, PLAY_BALL] + 0.3
+    assert team.options_from_scores(AGENTS, rows, scores)["left_2"] == PLAY_BALL
     rows[1:, 6] = 1.0  # everyone down but the goalie: nobody
     assert set(team.options_from_scores(AGENTS, rows, scores).values()) == {HOLD}
     env.close()

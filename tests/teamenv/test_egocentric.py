@@ -150,3 +150,30 @@ def test_a_raw_file_plays_as_the_policy_team_and_bad_entries_are_clear(tmp_path)
         egocentric_slots(tmp_path / "half.npz")
     with pytest.raises(PolicyFileError, match="'path'"):
         teamenv.parallel_env(team_size=2, left=TEAM_SPEC_NAME)
+
+
+def test_the_ball_race_columns_say_who_is_nearest_the_ball():
+    """In world coordinates: each agent's distance to the ball, and the nearest upright
+    teammate's and opponent's distance minus its own; the other columns unchanged."""
+    env, obs = _stepped_rows(3, cycles=60)
+    plain = EgocentricObservation.for_env(env, 2, 3)
+    race = EgocentricObservation.for_env(env, 2, 3, ball_race=True)
+    assert race.size == plain.size + 3
+    assert race.names[-3:] == ("ball_race.distance", "ball_race.teammate_gap",
+                               "ball_race.opponent_gap")
+    world = env.unwrapped.sim.world
+    ball = world.ball_state()[:2]
+    distance = np.hypot(*(world.player_poses()[:, :2] - ball).T)
+    down = env.unwrapped.sim.fallen()
+    for k, agent in enumerate(env.agents):
+        out = race(obs[agent])
+        np.testing.assert_array_equal(out[:-3], plain(obs[agent]))
+        side = slice(0, 3) if k < 3 else slice(3, 6)
+        other = slice(3, 6) if k < 3 else slice(0, 3)
+        mates = [j for j in range(*side.indices(6)) if j != k and not down[j]]
+        opps = [j for j in range(*other.indices(6)) if not down[j]]
+        assert out[-3] == pytest.approx(distance[k], abs=1e-3)
+        assert out[-2] == pytest.approx(min(distance[mates]) - distance[k], abs=1e-3)
+        assert out[-1] == pytest.approx(min(distance[opps]) - distance[k], abs=1e-3)
+    with pytest.raises(ConfigError, match="ball_race must be true or false"):
+        EgocentricObservation(3, 4, 2, 3, ball_race="yes")

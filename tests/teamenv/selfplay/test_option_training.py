@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import teamenv
+from strategy.teams.full_options import SWITCH_MARGIN
 from strategy.decision.field_player import COVER, HOLD, OPTIONS, PLAY_BALL
 from teamenv.errors import ConfigError
 from teamenv.selfplay.batch_env import OPTION_LABEL, TeamBatchEnv
@@ -23,7 +24,7 @@ from teamenv.selfplay.training_setup import ActionSetup, TrainingSetup, option_a
 
 SETUP = TrainingSetup(field="mj7v7", team_size=5, episode_s=8.0, teammate_slots=4,
                       opponent_slots=5, actions=option_actions(len(OPTIONS)),
-                      option_team="full_options")
+                      option_team="full_options", ball_race=True)
 
 
 def test_the_rules_demonstration_is_full_and_its_labels_are_its_choices():
@@ -49,22 +50,28 @@ def test_the_rules_demonstration_is_full_and_its_labels_are_its_choices():
 
 def test_the_network_outputs_are_the_options_played():
     """Each decision: the upright field player with the highest play_ball output plays the
-    ball, the one of the others with the highest cover output covers, the rest hold."""
+    ball, the one of the others with the highest cover output covers (either keeps its
+    option unless beaten by SWITCH_MARGIN), the rest hold."""
     env = TeamBatchEnv(SETUP, OpponentMix.single("static", 0), copies=1, seed=5)
     env.reset()
     rng = np.random.default_rng(0)
+    held: dict[int, int] = {}
     try:
         for _ in range(30):
             outputs = rng.uniform(-1.5, 1.5, (5, 3)).astype(np.float32)
             upright = env._raw[:, 6] < 0.5
             env.step(outputs)
             scores = np.clip(outputs, -1.0, 1.0)
-            free = np.flatnonzero(upright[1:]) + 1          # field players (left_1 keeps goal)
-            ball = free[np.argmax(scores[free, PLAY_BALL])]
-            rest = free[free != ball]
-            cover = rest[np.argmax(scores[rest, COVER])]
+            free = list(np.flatnonzero(upright[1:]) + 1)    # field players (left_1 keeps goal)
             expected = np.full(5, HOLD)
-            expected[[ball, cover]] = PLAY_BALL, COVER
+            for option in (PLAY_BALL, COVER):
+                pick = free[int(np.argmax(scores[free, option]))]
+                kept = held.get(option)
+                if kept in free and scores[kept, option] >= scores[pick, option] - SWITCH_MARGIN:
+                    pick = kept
+                expected[pick] = option
+                held[option] = pick
+                free.remove(pick)
             np.testing.assert_array_equal(env.played_options(), expected)
             team = env._teams[0]["static"]
             assert team.field_maker.option_override == dict(enumerate(expected.tolist()))
@@ -108,8 +115,10 @@ def test_a_snapshot_plays_the_options_the_training_env_would_choose(tmp_path):
 
 @pytest.mark.parametrize("change, match", [
     ({"actions": ActionSetup()}, "the network scores options; use actions=option_actions"),
-    ({"observation": "box"}, "reads egocentric observations"),
+    ({"observation": "box", "ball_race": False}, "reads egocentric observations"),
+    ({"observation": "box"}, "ball_race columns are part of egocentric observations"),
     ({"option_team": 3}, "option_team must be a team spec string"),
+    ({"ball_race": 1}, "ball_race must be true or false"),
 ])
 def test_setups_that_cannot_choose_options_fail_clearly(change, match):
     with pytest.raises(ConfigError, match=match):
