@@ -65,6 +65,8 @@ class FullOptionsTeam(FullTeam):
 
     name = TEAM_NAME
     option_names = OPTIONS
+    #: the options the team gives to one player each, in this order, by ranking the scores
+    ranked_options = (PLAY_BALL, COVER)
 
     def __init__(self, context: TeamContext, **config: Any) -> None:
         config = dict(config)
@@ -115,6 +117,13 @@ class FullOptionsTeam(FullTeam):
             override[self.agent_index[agent]] = int(option)
         self.field_maker.option_override = override
 
+    def eligible(self, agents: Sequence[str], rows: np.ndarray) -> np.ndarray:
+        """(len(agents),) which agents an option can be given to: the upright field players
+        (their state-mode Box ``rows`` say who is down)."""
+        goalie = self.field_maker.goalie
+        return np.array([self.agent_index[a] != goalie for a in agents]) & \
+            (np.asarray(rows)[:, _FALLEN] < 0.5)
+
     def options_from_scores(self, agents: Sequence[str], rows: np.ndarray,
                             scores: np.ndarray) -> dict[str, int]:
         """The team's options for network ``scores`` (len(agents), len(OPTIONS)) given the
@@ -123,12 +132,10 @@ class FullOptionsTeam(FullTeam):
         ``cover`` score of the others covers, everyone else holds (ties: the first agent);
         the player that had the ball (the cover) at the last call keeps it while it is
         upright and within ``SWITCH_MARGIN`` of the best score."""
-        goalie = self.field_maker.goalie
-        free = np.array([self.agent_index[a] != goalie for a in agents]) & \
-            (np.asarray(rows)[:, _FALLEN] < 0.5)
+        free = self.eligible(agents, rows)
         scores = np.asarray(scores, dtype=np.float64)
         options = np.full(len(agents), HOLD, dtype=np.int64)
-        for option in (PLAY_BALL, COVER):
+        for option in self.ranked_options:
             if not free.any():
                 self._holders.pop(option, None)
                 continue

@@ -92,6 +92,8 @@ class TeamBatchEnv:
         self._teams: list[dict[str, Any]] = [{} for _ in range(copies)]
         probe = self._make_env(None)
         self.option_count = 0 if self.option_spec is None else setup.actions.size
+        #: the options the option team gives to one player each by ranking the scores
+        self.ranked_options: tuple[int, ...] = ()
         self.raw_size = int(probe.observation_space(self.agents[0]).shape[0])
         self.gate_m = kick_gate_m() if setup.actions.kick_gate else None
         self.transform = EgocentricObservation.for_env(
@@ -123,6 +125,7 @@ class TeamBatchEnv:
         self._seed_now = [0] * self.copies
         self._labels = np.zeros(self.n_slots, dtype=np.int64)
         self._played = np.zeros(self.n_slots, dtype=np.int64)
+        self._eligible = np.zeros(self.n_slots, dtype=bool)
         self.episodes = []
 
     def _make_env(self, opponent) -> SoccerParallelEnv:
@@ -165,15 +168,17 @@ class TeamBatchEnv:
         team = host.teams[LEARNER_SIDE]
         names = getattr(team, "option_names", None)
         if any(not callable(getattr(team, m, None))
-               for m in ("choose", "rule_options", "options_from_scores")) or names is None:
+               for m in ("choose", "rule_options", "options_from_scores", "eligible")) or \
+                names is None:
             raise ConfigError(f"training: option_team {self.setup.option_team!r} does not take "
-                              f"options (it needs choose, options_from_scores, rule_options "
-                              f"and option_names)")
+                              f"options (it needs choose, eligible, options_from_scores, "
+                              f"rule_options and option_names)")
         if len(names) != self.setup.actions.size:
             raise ConfigError(f"training: option_team {self.setup.option_team!r} has "
                               f"{len(names)} options {tuple(names)}, the network scores "
                               f"{self.setup.actions.size}")
         host.teams[LEARNER_SIDE] = _CallerActs(team)
+        self.ranked_options = tuple(getattr(team, "ranked_options", ()))
         return team
 
     # -- stepping ----------------------------------------------------------------------------
@@ -213,6 +218,11 @@ class TeamBatchEnv:
         full = np.tile(self._fixed, (len(outputs), 1))
         full[:, self._learned] += outputs * self._scale
         return np.clip(full, -1.0, 1.0)
+
+    def eligible_slots(self) -> np.ndarray:
+        """(n_slots,) which slots the option team could give an option to at the last
+        decision (its upright field players)."""
+        return self._eligible.copy()
 
     def played_options(self) -> np.ndarray:
         """(n_slots,) the option each slot played in the last decision (an option team's:
@@ -285,6 +295,7 @@ class TeamBatchEnv:
         ``action_repeat`` cycles, deciding how every cycle itself."""
         env, rows = self._env[copy], self._rows(copy)
         team = self._teams[copy][self._opponent_label[copy]]
+        self._eligible[rows] = team.eligible(self.agents, self._raw[rows])
         options = None if scores is None else \
             team.options_from_scores(self.agents, self._raw[rows], scores)
         team.choose(options)

@@ -127,11 +127,12 @@ class ImitationPPOLearner(PPOLearner):
         rng = np.random.default_rng(np.random.SeedSequence([seed, 1]))
         observations: list[np.ndarray] = []
         labels: list[np.ndarray] = []
+        eligible: list[np.ndarray] = []  # option mode: who could be given an option
         episodes: list = []
         try:
             obs = env.reset()
             for r in range(rounds):
-                obs_r, labels_r, rewards, dones = [], [], [], []
+                obs_r, labels_r, rewards, dones, eligible_r = [], [], [], [], []
                 agreement = []
                 for _ in range(per_round):
                     obs_r.append(obs)
@@ -139,6 +140,7 @@ class ImitationPPOLearner(PPOLearner):
                         action = None if r == 0 else self.act(obs)
                         obs_next, reward, done, _ = env.step(action)
                         target = env.option_labels()
+                        eligible_r.append(env.eligible_slots())
                         if r > 0:  # the share of decisions whose option differs
                             agreement.append(float(np.mean(
                                 env.played_options() != target.argmax(axis=1))))
@@ -156,8 +158,12 @@ class ImitationPPOLearner(PPOLearner):
                     dones.append(done)
                 observations.append(np.concatenate(obs_r))
                 labels.append(np.concatenate(labels_r))
+                if eligible_r:
+                    eligible.append(np.concatenate(eligible_r))
                 x, y = np.concatenate(observations), np.concatenate(labels)
-                loss = self._fit_actor(x, y, self.label_mask(x, env.gate_m), rng, torch)
+                loss = self._fit_actor(x, y, self.label_mask(x, env.gate_m), rng, torch,
+                                       np.concatenate(eligible) if eligible else None,
+                                       env.ranked_options)
                 self.clone_log.append({
                     "round": r, "played_by": "teacher" if r == 0 else "network",
                     "samples": int(len(x)), "bc_loss": loss,
@@ -196,9 +202,20 @@ class ImitationPPOLearner(PPOLearner):
         return mask
 
     def _fit_actor(self, x: np.ndarray, y: np.ndarray, mask: np.ndarray,
-                   rng: np.random.Generator, torch) -> float:
+                   rng: np.random.Generator, torch, eligible: np.ndarray | None = None,
+                   ranked: tuple[int, ...] = ()) -> float:
         """Observation statistics from ``x``, then the actor's mean to ``y`` (squared error
-        over the entries ``mask`` keeps); the final epoch's mean loss per kept entry."""
+        over the entries ``mask`` keeps); the final epoch's mean loss per kept entry.
+
+        With an option team (``eligible``: which rows could be given an option) the rows
+        come in teams (``team_size`` consecutive rows: one decision of one env copy) and the
+        loss adds, per team and option the team ranks (``ranked``, in order: e.g. the ball,
+        then the cover), the cross-entropy of the rule's choice among the eligible players'
+        scores for it (``RANK_SCALE`` x the scores as logits; each choice leaves the
+        eligible): the team's choice ranks the scores (``options_from_scores``), so
+        the fit is taught the ranking, not only each player's own label. Cloning with the
+        squared error alone picked the rule's ball player in 84 % of open-play cycles of
+        its own play (94 % of the rule's)."""
         rms = self.vec_env.obs_rms
         rms.mean = x.mean(axis=0).astype(np.float64)
         rms.var = x.var(axis=0).astype(np.float64)
@@ -211,16 +228,24 @@ class ImitationPPOLearner(PPOLearner):
         targets = torch.as_tensor(y, dtype=torch.float32)
         weights = torch.as_tensor(mask, dtype=torch.float32)
         loss_value = float("nan")
+        size = self.setup.team_size if eligible is not None else 1
+        teams = len(x) // size
+        free = None if eligible is None else torch.as_tensor(eligible.astype(bool))
         for _ in range(self.bc_epochs):
-            order = rng.permutation(len(x))
+            order = rng.permutation(teams)
             total, kept = 0.0, 0.0
-            for start in range(0, len(x), self.bc_batch):
-                idx = torch.as_tensor(order[start:start + self.bc_batch])
+            for start in range(0, teams, max(1, self.bc_batch // size)):
+                chosen = order[start:start + max(1, self.bc_batch // size)]
+                idx = torch.as_tensor((chosen[:, None] * size + np.arange(size)).ravel())
                 latent = policy.mlp_extractor.forward_actor(
                     policy.extract_features(inputs[idx], policy.pi_features_extractor))
                 w = weights[idx]
-                squared = w * (policy.action_net(latent) - targets[idx]) ** 2
+                out = policy.action_net(latent)
+                squared = w * (out - targets[idx]) ** 2
                 loss = squared.sum() / w.sum().clamp(min=1.0)
+                if free is not None and ranked:
+                    loss = loss + _ranking_loss(out, targets[idx], free[idx], size, ranked,
+                                                torch)
                 optimiser.zero_grad()
                 loss.backward()
                 optimiser.step()
@@ -269,3 +294,28 @@ class ImitationPPOLearner(PPOLearner):
                 optimiser.zero_grad()
                 loss.backward()
                 optimiser.step()
+
+
+#: Logits per unit of an option score in the ranking loss (scores are taught as +-0.5, so
+#: the rule's choice leads the others by about 5 nats).
+RANK_SCALE = 5.0
+
+
+def _ranking_loss(out, targets, eligible, size: int, ranked: tuple[int, ...], torch):
+    """Sum over the ``ranked`` options of the mean cross-entropy, over the teams of a
+    minibatch where the rule chose one eligible player for it, of that player among the
+    eligible players' scores (those chosen for earlier options left out)
+    (``ImitationPPOLearner._fit_actor``)."""
+    scores = out.reshape(-1, size, out.shape[1])
+    chosen = targets.reshape(-1, size, targets.shape[1]).argmax(dim=2)
+    free = eligible.reshape(-1, size).clone()
+    losses = []
+    for option in ranked:
+        target = (chosen == option) & free
+        valid = target.sum(dim=1) == 1
+        if valid.any():
+            logits = (RANK_SCALE * scores[:, :, option]).masked_fill(~free, float("-inf"))
+            picked = target[valid].float().argmax(dim=1)
+            losses.append(torch.nn.functional.cross_entropy(logits[valid], picked))
+        free = free & ~target
+    return sum(losses) if losses else out.sum() * 0.0
