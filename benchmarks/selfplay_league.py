@@ -61,15 +61,16 @@ IMITATION_OPTIONS = {"teacher": "chaser", "dagger_rounds": 2, "bc_epochs": 30,
 
 
 #: The options run's training: 5 v 5 on the league's field (where ``full`` beats ``chaser``,
-#: docs/selfplay.md), egocentric slots for every other player and the ball-race columns, one
-#: network scoring the three open-play options of ``full_options`` every 5 cycles.
+#: docs/selfplay.md), egocentric slots for every other player and the ball-race columns
+#: without the clock and score (the rule it clones reads neither), one network scoring the
+#: three open-play options of ``full_options`` every 5 cycles.
 OPTIONS_TRAINING = TrainingSetup(field="mj7v7", team_size=5, episode_s=60.0, teammate_slots=4,
                                  opponent_slots=5, actions=option_actions(3),
-                                 option_team="full_options", ball_race=True)
+                                 option_team="full_options", ball_race=True, game_state=False)
 #: Its learner: the clone of the rule (three rounds: the rule's own, two DAgger), then PPO at
 #: a learning rate that keeps it near the clone.
 OPTIONS_LEARNER = {"copies": 4, "n_steps": 256, "batch_size": 512, "n_epochs": 5,
-                   "learning_rate": 3e-5, "hidden": 128, "dagger_rounds": 2, "bc_epochs": 30,
+                   "learning_rate": 3e-5, "hidden": 128, "dagger_rounds": 3, "bc_epochs": 80,
                    "bc_log_std": -1.5}
 
 
@@ -93,7 +94,7 @@ def demo_config(smoke: bool, learner: str = "imitation") -> LeagueConfig:
                              **extra})
     if learner == "options":
         return LeagueConfig(
-            seed=0, steps_per_generation=30_000, builtins=("chaser", "static", "full"),
+            seed=0, steps_per_generation=40_000, builtins=("chaser", "static", "full"),
             training=OPTIONS_TRAINING,
             rating=RatingSetup(games_per_pairing=1, half_time_s=60.0, halves=2, recent=2),
             learner="imitation", learner_options=OPTIONS_LEARNER)

@@ -97,7 +97,8 @@ class TeamBatchEnv:
         self.raw_size = int(probe.observation_space(self.agents[0]).shape[0])
         self.gate_m = kick_gate_m() if setup.actions.kick_gate else None
         self.transform = EgocentricObservation.for_env(
-            probe, setup.teammate_slots, setup.opponent_slots, setup.ball_race) \
+            probe, setup.teammate_slots, setup.opponent_slots, setup.ball_race,
+            setup.game_state) \
             if setup.observation == "egocentric" else None
         self.observation_size = self.raw_size if self.transform is None else self.transform.size
         self.action_size = setup.actions.size

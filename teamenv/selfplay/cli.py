@@ -43,6 +43,8 @@ _CONFIG_OPTIONS = (
     ("--ball-race", "ball_race", str,
      "true: egocentric rows end with the ball-race columns (distance to the ball, and how "
      "much farther the nearest teammate and opponent are; default false)"),
+    ("--game-state", "game_state", str,
+     "false: egocentric rows leave out the clock, half and score (default true)"),
     ("--option-team", "option_team", str,
      "a team that plays options the network scores, e.g. full_options (its open-play "
      "options: play the ball, cover, hold); default none: the network's outputs are actions"),
@@ -154,10 +156,10 @@ def build_config(args: argparse.Namespace, base: dict[str, Any] | None = None):
             data["training"]["shaping"] = _weights(value, "--shaping")
         elif key == "option_team":
             data["training"]["option_team"] = value
-        elif key == "ball_race":
+        elif key in ("ball_race", "game_state"):
             if value.lower() not in ("true", "false"):
-                raise ConfigError(f"--ball-race: true or false, got {value!r}")
-            data["training"]["ball_race"] = value.lower() == "true"
+                raise ConfigError(f"--{key.replace('_', '-')}: true or false, got {value!r}")
+            data["training"][key] = value.lower() == "true"
         elif key in _ACTION_KEYS:
             if key == "walk_to_ball":
                 if value.lower() not in ("true", "false"):

@@ -34,19 +34,23 @@ TEAM_SPEC_NAME = "teamenv.selfplay.egocentric_team:EgocentricPolicyTeam"
 SLOT_KEYS = ("egocentric_teammates", "egocentric_opponents")
 #: A file whose rows end with the ball-race columns (``teamenv.egocentric``) says so here.
 BALL_RACE_KEY = "egocentric_ball_race"
+#: A file whose rows leave out the game state (clock, half, score) says so here.
+GAME_STATE_KEY = "egocentric_game_state"
 
 
 def add_egocentric_slots(path: str | Path, teammates: int, opponents: int,
-                         ball_race: bool = False) -> Path:
+                         ball_race: bool = False, game_state: bool = True) -> Path:
     """Mark the policy file ``path`` as reading ``teammates`` + ``opponents`` egocentric
-    slots, and the ball-race columns when ``ball_race`` (rewrites it with the entries
-    added)."""
+    slots, the ball-race columns when ``ball_race``, no game-state columns unless
+    ``game_state`` (rewrites it with the entries added)."""
     path = Path(path)
     arrays = read_npz(path, f"policy file {str(path)!r}", PolicyFileError)
     arrays[SLOT_KEYS[0]] = np.asarray(int(teammates))
     arrays[SLOT_KEYS[1]] = np.asarray(int(opponents))
     if ball_race:
         arrays[BALL_RACE_KEY] = np.asarray(True)
+    if not game_state:
+        arrays[GAME_STATE_KEY] = np.asarray(False)
     with path.open("wb") as fh:  # a file object: numpy would append .npz to a bare name
         np.savez(fh, **arrays)
     return path
@@ -124,7 +128,8 @@ def egocentric_policy(path: str | Path, context: TeamContext,
     heard = int(comms.get_profile(context.channel).max_heard)
     arrays = read_npz(path, f"policy file {str(path)!r}", PolicyFileError)
     transform = EgocentricObservation(context.team_size, heard, *slots,
-                                      ball_race=bool(arrays.get(BALL_RACE_KEY, False)))
+                                      ball_race=bool(arrays.get(BALL_RACE_KEY, False)),
+                                      game_state=bool(arrays.get(GAME_STATE_KEY, True)))
     return EgocentricPolicy(load_policy(path, option_team=option_team), transform)
 
 

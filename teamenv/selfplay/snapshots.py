@@ -96,7 +96,8 @@ class SnapshotPool:
             kick_gate_m=kick_gate_m() if s.actions.kick_gate else None,
             walk_to_ball=s.actions.walk_to_ball, action_repeat=s.actions.action_repeat)
         if s.observation == "egocentric":
-            add_egocentric_slots(temporary, s.teammate_slots, s.opponent_slots, s.ball_race)
+            add_egocentric_slots(temporary, s.teammate_slots, s.opponent_slots, s.ball_race,
+                                 s.game_state)
         if s.option_team:
             add_option_team(temporary, parse_team_spec(s.option_team).name, s.actions.size)
         with temporary.open("rb") as fh:

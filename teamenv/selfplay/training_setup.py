@@ -128,6 +128,9 @@ class TrainingSetup:
         ball_race: egocentric rows end with the ball-race columns (``teamenv.egocentric``:
             the agent's distance to the ball, and how much farther the nearest upright
             teammate and opponent are), which a team choosing its ball player needs.
+        game_state: egocentric rows keep the ``game.*`` columns (clock, half, score); False
+            leaves them out (a rule being cloned never reads them, and episodes shorter than
+            a match would leave the network clock values it never saw).
         option_team: "" (the network's outputs are Box actions), or the team spec of a team
             that plays options the network chooses (e.g. ``full_options``,
             ``strategy.teams.full_options``): the learning side is that team, the network
@@ -148,6 +151,7 @@ class TrainingSetup:
     gamma: float = 0.99
     option_team: str = ""
     ball_race: bool = False
+    game_state: bool = True
 
     def __post_init__(self) -> None:
         field_preset(self.field)
@@ -186,6 +190,12 @@ class TrainingSetup:
         if not isinstance(self.ball_race, bool):
             raise ConfigError(f"training: ball_race must be true or false, got "
                               f"{self.ball_race!r}")
+        if not isinstance(self.game_state, bool):
+            raise ConfigError(f"training: game_state must be true or false, got "
+                              f"{self.game_state!r}")
+        if not self.game_state and self.observation != "egocentric":
+            raise ConfigError("training: game_state=false leaves columns out of egocentric "
+                              "observations; observation is 'box'")
         if self.ball_race and self.observation != "egocentric":
             raise ConfigError("training: ball_race columns are part of egocentric "
                               "observations; observation is 'box'")

@@ -177,3 +177,18 @@ def test_the_ball_race_columns_say_who_is_nearest_the_ball():
         assert out[-1] == pytest.approx(min(distance[opps]) - distance[k], abs=1e-3)
     with pytest.raises(ConfigError, match="ball_race must be true or false"):
         EgocentricObservation(3, 4, 2, 3, ball_race="yes")
+
+
+def test_without_the_game_state_the_clock_and_score_are_left_out(tmp_path):
+    env, obs = _stepped_rows(3)
+    full = EgocentricObservation.for_env(env, 2, 3)
+    short = EgocentricObservation.for_env(env, 2, 3, ball_race=True, game_state=False)
+    kept = [n for n in full.names if not n.startswith("game.")]
+    assert len(kept) == full.size - 4
+    assert list(short.names) == kept + ["ball_race.distance", "ball_race.teammate_gap",
+                                        "ball_race.opponent_gap"]
+    row = obs["left_2"]
+    np.testing.assert_array_equal(short(row)[:-3], full(row)[[full.names.index(n)
+                                                               for n in kept]])
+    with pytest.raises(ConfigError, match="game_state must be true or false"):
+        EgocentricObservation(3, 4, 2, 3, game_state=None)

@@ -24,7 +24,7 @@ from teamenv.selfplay.training_setup import ActionSetup, TrainingSetup, option_a
 
 SETUP = TrainingSetup(field="mj7v7", team_size=5, episode_s=8.0, teammate_slots=4,
                       opponent_slots=5, actions=option_actions(len(OPTIONS)),
-                      option_team="full_options", ball_race=True)
+                      option_team="full_options", ball_race=True, game_state=False)
 
 
 def test_the_rules_demonstration_is_full_and_its_labels_are_its_choices():
@@ -115,10 +115,13 @@ def test_a_snapshot_plays_the_options_the_training_env_would_choose(tmp_path):
 
 @pytest.mark.parametrize("change, match", [
     ({"actions": ActionSetup()}, "the network scores options; use actions=option_actions"),
-    ({"observation": "box", "ball_race": False}, "reads egocentric observations"),
-    ({"observation": "box"}, "ball_race columns are part of egocentric observations"),
+    ({"observation": "box", "ball_race": False, "game_state": True},
+     "reads egocentric observations"),
+    ({"observation": "box", "ball_race": False}, "game_state=false leaves columns out"),
+    ({"observation": "box", "game_state": True}, "ball_race columns are part of egocentric"),
     ({"option_team": 3}, "option_team must be a team spec string"),
     ({"ball_race": 1}, "ball_race must be true or false"),
+    ({"game_state": "no"}, "game_state must be true or false"),
 ])
 def test_setups_that_cannot_choose_options_fail_clearly(change, match):
     with pytest.raises(ConfigError, match=match):
