@@ -257,14 +257,14 @@ def main(argv: list[str] | None = None) -> None:
         seeds = evaluation_seeds(args.evaluate)
         report = {"snapshot": best, "policy_file": str(policy), "team_spec": spec.name,
                   "rating": final.bradley_terry[best].__dict__, "options": options.to_dict(),
-                  "seeds": [seeds[0], seeds[-1]], "opponents": {}}
+                  "opponents": {}}
         wanted = set(args.eval_games.split(","))
         unknown = wanted - set(EVAL_GAMES)
         if unknown:
             parser.error(f"--eval-games: unknown {sorted(unknown)}; choose from {EVAL_GAMES}")
         if report_path.is_file():  # keep what an earlier run evaluated of the same setup
             earlier = json.loads(report_path.read_text())
-            if all(earlier.get(k) == report[k] for k in ("snapshot", "options", "seeds")):
+            if all(earlier.get(k) == report[k] for k in ("snapshot", "options")):
                 report = {**earlier, **{k: v for k, v in report.items() if k != "opponents"}}
         games = [("learned", best, policy, "chaser"), ("learned", best, policy, "full"),
                  ("untrained", "gen-0000", pool.path(0), "chaser")]
@@ -283,7 +283,7 @@ def main(argv: list[str] | None = None) -> None:
             losses = sum(a < b for a, b in scores)
             gd = goal_difference(scores)
             report.setdefault("opponents" if role == "learned" else role, {})[opponent] = {
-                "snapshot": name, "matches": len(rows),
+                "snapshot": name, "matches": len(rows), "seeds": [seeds[0], seeds[-1]],
                 "record": {"wins": wins, "draws": len(rows) - wins - losses, "losses": losses},
                 "goals": [sum(a for a, _ in scores), sum(b for _, b in scores)],
                 "goal_difference_per_match": gd, "per_seed": rows,

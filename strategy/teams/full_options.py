@@ -13,11 +13,12 @@ project's CPU budget.
 
 One team, three uses:
 
-- ``full_options`` alone (no ``path``) is ``full`` exactly: the team's own rule chooses (the
-  teacher of imitation learning, and a test that the hook changes nothing);
-- with ``path`` (a ``teamenv-mlp-v1`` file marked ``option_team = full_options``), every
-  ``action_repeat``-th cycle one network call for all agents scores the options from each
-  agent's egocentric row (``teamenv.egocentric``) and the scores are made a team's choice
+- ``full_options`` alone is ``full`` exactly: the team's own rule chooses (the teacher of
+  imitation learning, and a test that the hook changes nothing);
+- a policy file that scores its options (a league snapshot, played by
+  ``teamenv.selfplay.option_policy_team``): every ``action_repeat``-th cycle one network call
+  for all agents scores the options from each agent's egocentric row
+  (``teamenv.egocentric``) and the scores are made a team's choice
   (``options_from_scores``: the upright field player with the highest ``play_ball`` score
   plays the ball, the one with the highest ``cover`` score of the others covers, the rest
   hold; who had the ball keeps it unless beaten by ``SWITCH_MARGIN``), held until the next
@@ -35,7 +36,6 @@ getting up) stay ``full``'s: an option only applies to a field player in play on
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -43,7 +43,7 @@ import numpy as np
 from strategy.decision.field_player import COVER, HOLD, OPTIONS, PLAY_BALL
 from strategy.teams.full import FullTeam
 from strategy.teams.full_config import FullTeamConfig
-from teamenv.box_layout import SELF_COLUMNS, flatten_observation
+from teamenv.box_layout import SELF_COLUMNS
 from teamenv.errors import ConfigError
 from teamenv.team_config import team_config
 from teamenv.teams import TeamContext
@@ -60,8 +60,8 @@ _FALLEN = SELF_COLUMNS.index("fallen")
 
 
 class FullOptionsTeam(FullTeam):
-    """``FullTeam`` whose open-play options come from a policy file (``path``) or from the
-    caller (``choose``); config keys: ``path`` and the fields of ``FullTeamConfig``."""
+    """``FullTeam`` whose open-play options come from the caller (``choose``,
+    ``options_from_scores``); config keys: the fields of ``FullTeamConfig``."""
 
     name = TEAM_NAME
     option_names = OPTIONS
@@ -69,34 +69,14 @@ class FullOptionsTeam(FullTeam):
     ranked_options = (PLAY_BALL, COVER)
 
     def __init__(self, context: TeamContext, **config: Any) -> None:
-        config = dict(config)
-        path = config.pop("path", None)
         team_config(self.name, FullTeamConfig, config)
         super().__init__(context, **config)
         self.agent_index = {agent: k for k, agent in enumerate(context.agents)}
-        self.policy = None
-        if path is not None:
-            if not isinstance(path, (str, Path)):
-                raise ConfigError(f"{self.name} team ({context.side}): path must be a policy "
-                                  f"file name, got {path!r}")
-            # imported here: teamenv.selfplay is the league's, the team only reads its file
-            from teamenv.policy_team.mlp_file import option_team
-            from teamenv.selfplay.egocentric_team import egocentric_policy
-
-            self.policy = egocentric_policy(path, context, option_team=self.name)
-            count = option_team(path)[1]
-            if count != len(OPTIONS):
-                raise ConfigError(f"{self.name} team ({context.side}): policy file {path!r} "
-                                  f"scores {count} options; this team has {len(OPTIONS)} "
-                                  f"{OPTIONS}")
-            self.action_repeat = int(self.policy.action_repeat)
-        self._cycle = 0
         self._holders: dict[int, str] = {}  # option -> the agent given it last
 
     def reset(self, seed: int) -> None:
         super().reset(seed)
         self.choose(None)
-        self._cycle = 0
         self._holders = {}
 
     def choose(self, options: Mapping[str, int] | None) -> None:
@@ -156,13 +136,3 @@ class FullOptionsTeam(FullTeam):
         on)."""
         chosen = self.field_maker.chosen_options
         return np.array([chosen.get(self.agent_index[a], HOLD) for a in agents], dtype=np.int64)
-
-    def act(self, observations: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[str, Any]]:
-        if self.policy is not None and observations:
-            if self._cycle % self.action_repeat == 0:
-                agents = list(observations)
-                rows = np.stack([flatten_observation(observations[a]) for a in agents])
-                scores = self.policy.network_actions(rows)[:, :len(OPTIONS)]
-                self.choose(self.options_from_scores(agents, rows, scores))
-            self._cycle += 1
-        return super().act(observations)

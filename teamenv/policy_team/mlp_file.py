@@ -28,10 +28,11 @@ The file format (``MLP_FORMAT``, torch-free, numpy only), an ``.npz`` with:
   ``action_repeat``-th cycle of an episode (the first included) and repeats its output in
   between, as a policy trained with that frame skip acts; the kick gate is applied every
   cycle to the current observation;
-- optional ``option_team`` (a team spec name) and ``option_count`` (int k): the first k Box
-  outputs are scores of k options that team plays (the highest is chosen), not actions. Only
-  that team reads such a file (``load_policy(path, option_team=name)``); the ``policy`` team
-  refuses it with a message naming the team to play it with.
+- optional ``option_team`` (a team spec) and ``option_count`` (int k): the first k Box
+  outputs are scores of k options that team plays, not actions
+  (``teamenv.selfplay.option_policy_team`` plays such a file:
+  ``load_policy(path, option_team=spec)``); the ``policy`` team refuses it with a message
+  naming the team to play it with.
 """
 
 from __future__ import annotations
@@ -232,8 +233,9 @@ def load_policy(path: str | Path, option_team: str | None = None) -> MLPPolicy:
                               f"(an {OPTION_TEAM_KEY!r} entry naming it)")
     if chooser is not None and chooser[0] != option_team:
         raise PolicyFileError(f"policy file {str(path)!r} scores {chooser[1]} options for the "
-                              f"{chooser[0]!r} team, not Box actions: play it as "
-                              f"{chooser[0]}:path={path}")
+                              f"{chooser[0]!r} team, not Box actions: play it with "
+                              f"teamenv.selfplay.option_policy_team:OptionPolicyTeam "
+                              f"(path={path})")
     try:
         return _policy_from_arrays(data, path)
     except PolicyFileError:

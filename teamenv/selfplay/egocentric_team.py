@@ -74,8 +74,8 @@ def egocentric_slots(path: str | Path) -> tuple[int, int] | None:
 
 
 def add_option_team(path: str | Path, team: str, options: int) -> Path:
-    """Mark the policy file ``path`` as scoring ``options`` options for ``team`` (a team spec
-    name; ``teamenv.policy_team.mlp_file``'s ``option_team`` entries): rewrites it."""
+    """Mark the policy file ``path`` as scoring ``options`` options for ``team`` (a team
+    spec; ``teamenv.policy_team.mlp_file``'s ``option_team`` entries): rewrites it."""
     path = Path(path)
     arrays = read_npz(path, f"policy file {str(path)!r}", PolicyFileError)
     arrays[OPTION_TEAM_KEY] = np.asarray(str(team))

@@ -5,8 +5,8 @@ first generation, and so on. Each file holds the network with the action setup f
 its output layer and the reflexes (kick gate, walk to the ball, action repeat) as entries, so
 it plays exactly as the learner acted — through the ``policy`` team for a raw-row file
 (``policy:path=...``), through ``teamenv.selfplay.egocentric_team`` for one that reads
-egocentric slots, through the option team for one that scores its options
-(``full_options:path=...``; ``SnapshotPool.spec`` gives the right one). A file is written to a
+egocentric slots, through ``teamenv.selfplay.option_policy_team`` for one that scores an
+option team's options (``SnapshotPool.spec`` gives the right one). A file is written to a
 temporary name and renamed into place, so a kill leaves either the whole file or none.
 """
 
@@ -26,6 +26,7 @@ from teamenv.selfplay.egocentric_team import (
     add_option_team,
 )
 from teamenv.selfplay.learner import PolicyWeights
+from teamenv.selfplay.option_policy_team import OPTION_POLICY_SPEC_NAME
 from teamenv.selfplay.training_setup import TrainingSetup, kick_gate_m
 from teamenv.tournament.spec import TeamSpec, parse_team_spec
 
@@ -99,7 +100,7 @@ class SnapshotPool:
             add_egocentric_slots(temporary, s.teammate_slots, s.opponent_slots, s.ball_race,
                                  s.game_state)
         if s.option_team:
-            add_option_team(temporary, parse_team_spec(s.option_team).name, s.actions.size)
+            add_option_team(temporary, parse_team_spec(s.option_team).label, s.actions.size)
         with temporary.open("rb") as fh:
             os.fsync(fh.fileno())
         os.replace(temporary, final)
@@ -110,9 +111,7 @@ class SnapshotPool:
         """The team spec that plays the snapshot of ``generation`` (absolute path: tournament
         workers and training envs find it from any working directory)."""
         if self.setup.option_team:
-            spec = parse_team_spec(self.setup.option_team)
-            return TeamSpec.of(spec.name, {**spec.config_dict,
-                                           "path": str(self.path(generation))})
+            return TeamSpec.of(OPTION_POLICY_SPEC_NAME, {"path": str(self.path(generation))})
         if self.setup.observation == "egocentric":
             return TeamSpec.of(TEAM_SPEC_NAME, {"path": str(self.path(generation))})
         return TeamSpec.of("policy", {"path": str(self.path(generation))})

@@ -56,5 +56,5 @@ def test_the_options_demo_clones_full_and_its_snapshots_play_full_options(tmp_pa
     assert [r["played_by"] for r in clone["clone_log"]] == ["teacher", "network"]
     assert 0.0 <= clone["clone_log"][1]["option_disagreement_when_played"] <= 1.0
     report = json.loads((tmp_path / "evaluation.json").read_text())
-    assert report["team_spec"] == "full_options"
+    assert report["team_spec"] == "teamenv.selfplay.option_policy_team:OptionPolicyTeam"
     assert report["teacher"]["chaser"]["snapshot"] == "full_options"

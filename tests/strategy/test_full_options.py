@@ -1,7 +1,8 @@
-"""The ``full_options`` team (strategy.teams.full_options): with no policy it is ``full``
+"""The ``full_options`` team (strategy.teams.full_options): left to its rule it is ``full``
 bit for bit; the options it is told to play are the ones played; its rule's choices are what
-``full`` does; a policy file plays the option with the highest score; bad input is one clear
-error naming the agent, the option or the file."""
+``full`` does; scores become one ball player and one cover; bad input is one clear error
+naming the agent and the option. (Policy files that score its options:
+tests/teamenv/selfplay/test_option_policy_team.py.)"""
 
 from __future__ import annotations
 
@@ -13,8 +14,6 @@ import pytest
 import teamenv
 from strategy.decision.field_player import COVER, HOLD, OPTIONS, PLAY_BALL
 from teamenv.errors import ConfigError
-from teamenv.policy_team import PolicyFileError, save_mlp_policy
-from teamenv.selfplay.egocentric_team import add_egocentric_slots, add_option_team
 
 AGENTS = [f"left_{k}" for k in range(1, 6)]
 
@@ -90,34 +89,6 @@ def test_a_bad_choice_is_one_clear_error(options, match):
     env.close()
 
 
-def _option_file(path, scores: np.ndarray, count: int = len(OPTIONS), team="full_options"):
-    """A policy file whose network ignores its input and outputs ``scores`` (first Box
-    entries) for every row: egocentric slots 4 + 5 (5 v 5), marked for ``team``."""
-    from teamenv.egocentric import EgocentricObservation
-
-    size = EgocentricObservation(5, 4, 4, 5).size
-    w = np.zeros((size, 9), np.float32)
-    b = np.zeros(9, np.float32)
-    b[:len(scores)] = scores
-    save_mlp_policy(path, [(w, b)], activation="identity", output_activation="identity",
-                    action_repeat=5)
-    add_egocentric_slots(path, 4, 5)
-    if team is not None:
-        add_option_team(path, team, count)
-    return path
-
-
-def test_a_policy_file_plays_the_team_its_scores_rank(tmp_path):
-    path = _option_file(tmp_path / "tied.npz", np.array([-0.5, 0.7, 0.1]))
-    env, team = _team_env(path=str(path))
-    for _ in range(200):
-        env.step({})
-    # every player scores the same: the first field player plays the ball, the second covers
-    assert team.field_maker.option_override == {0: HOLD, 1: PLAY_BALL, 2: COVER, 3: HOLD,
-                                                4: HOLD}
-    env.close()
-
-
 def test_scores_make_one_ball_player_and_one_cover_among_the_upright_field_players():
     env, team = _team_env()
     rows = np.zeros((5, 9))
@@ -137,18 +108,3 @@ def test_scores_make_one_ball_player_and_one_cover_among_the_upright_field_playe
     rows[1:, 6] = 1.0  # everyone down but the goalie: nobody
     assert set(team.options_from_scores(AGENTS, rows, scores).values()) == {HOLD}
     env.close()
-
-
-def test_files_that_do_not_fit_are_refused_with_the_reason(tmp_path):
-    plain = _option_file(tmp_path / "plain.npz", np.zeros(3), team=None)
-    with pytest.raises(PolicyFileError, match="Box actions.*'full_options' team plays a file"):
-        _team_env(path=str(plain))
-    four = _option_file(tmp_path / "four.npz", np.zeros(4), count=4)
-    with pytest.raises(ConfigError, match="scores 4 options; this team has 3"):
-        _team_env(path=str(four))
-    options = _option_file(tmp_path / "options.npz", np.zeros(3))
-    for team in ("policy", "teamenv.selfplay.egocentric_team:EgocentricPolicyTeam"):
-        with pytest.raises(Exception, match="scores 3 options for the 'full_options' team.*"
-                                            "play it as full_options:path="):
-            teamenv.parallel_env(field="mj7v7", team_size=5, left=team,
-                                 left_config={"path": str(options)}).reset(seed=0)

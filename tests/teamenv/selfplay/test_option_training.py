@@ -17,6 +17,7 @@ from strategy.decision.field_player import COVER, HOLD, OPTIONS, PLAY_BALL
 from teamenv.errors import ConfigError
 from teamenv.selfplay.batch_env import OPTION_LABEL, TeamBatchEnv
 from teamenv.selfplay.learner import PolicyWeights
+from teamenv.selfplay.option_policy_team import OPTION_POLICY_SPEC_NAME
 from teamenv.selfplay.pfsp import OpponentMix
 from teamenv.selfplay.snapshots import SnapshotPool
 from teamenv.selfplay.teacher_env import TeacherBatchEnv
@@ -90,9 +91,9 @@ def test_the_teacher_env_is_the_option_teams_rule():
 
 
 def test_a_snapshot_plays_the_options_the_training_env_would_choose(tmp_path):
-    """A network with a fixed output written as a snapshot: its team spec is
-    ``full_options:path=...``, and with every score tied the first field player plays the
-    ball, the second covers."""
+    """A network with a fixed output written as a snapshot: its team spec is the option
+    policy team's, and with every score tied the first field player plays the ball, the
+    second covers."""
     env = TeamBatchEnv(SETUP, OpponentMix.single("static", 0), seed=0)
     size = env.observation_size
     env.close()
@@ -101,13 +102,14 @@ def test_a_snapshot_plays_the_options_the_training_env_would_choose(tmp_path):
     pool = SnapshotPool(tmp_path, SETUP)
     pool.write(0, weights)
     spec = pool.spec(0)
-    assert spec.name == "full_options" and spec.config_dict == {"path": str(pool.path(0))}
+    assert spec.name == OPTION_POLICY_SPEC_NAME
+    assert spec.config_dict == {"path": str(pool.path(0))}
     game = teamenv.parallel_env(field="mj7v7", team_size=5, left=spec.name,
                                 left_config=spec.config_dict, right="static")
     game.reset(seed=2)
     for _ in range(10):
         game.step({})
-    team = game.unwrapped.team_host.teams["left"]
+    team = game.unwrapped.team_host.teams["left"].team
     assert team.field_maker.option_override == {0: HOLD, 1: PLAY_BALL, 2: COVER, 3: HOLD,
                                                 4: HOLD}
     game.close()
