@@ -293,8 +293,9 @@ def main(argv: list[str] | None = None) -> None:
                   f"goals {sum(a for a, _ in scores)}-{sum(b for _, b in scores)}; goal "
                   f"difference per match {gd['mean']:+.3f} [{gd['ci95'][0]:+.3f}, "
                   f"{gd['ci95'][1]:+.3f}]", flush=True)
-        report_path.parent.mkdir(parents=True, exist_ok=True)
-        report_path.write_text(json.dumps(report, indent=1) + "\n")
+            # after every game: a long evaluation stopped part-way keeps what it played
+            report_path.parent.mkdir(parents=True, exist_ok=True)
+            report_path.write_text(json.dumps(report, indent=1) + "\n")
         print(f"wrote {policy} and {report_path}")
 
 
