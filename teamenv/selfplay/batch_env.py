@@ -271,23 +271,13 @@ class TeamBatchEnv:
     def _decide(self, copy: int, full: np.ndarray) -> tuple[np.ndarray, bool, bool]:
         """Play one decision (``action_repeat`` cycles, reflexes each cycle) in ``copy``; the
         slots' discounted reward, whether the episode ended, and whether it was cut."""
-        env, rows = self._env[copy], self._rows(copy)
-        a = self.setup.actions
-        gamma, discount = self.setup.cycle_gamma, 1.0
-        total = np.zeros(self.team_size)
-        for _ in range(a.action_repeat):
+        rows, a = self._rows(copy), self.setup.actions
+
+        def actions(cycle: int) -> dict:
             act = apply_reflexes(self._raw[rows], full, self.gate_m, a.walk_to_ball)
-            obs, rew, term, trunc, infos = env.step(dict(zip(self.agents, act, strict=True)))
-            total += discount * np.array([rew[x] for x in self.agents])
-            discount *= gamma
-            self._raw[rows] = np.stack([obs[x] for x in self.agents])
-            scorer = infos[self.agents[0]].get("goal")
-            if scorer is not None:
-                self._goals[copy][0 if scorer == LEARNER_SIDE else 1] += 1
-            first = self.agents[0]
-            if term[first] or trunc[first]:
-                return total, True, bool(trunc[first] and not term[first])
-        return total, False, False
+            return dict(zip(self.agents, act, strict=True))
+
+        return self._cycles(copy, actions)
 
     def _play_options(self, copy: int, scores: np.ndarray | None
                       ) -> tuple[np.ndarray, bool, bool]:
@@ -302,15 +292,25 @@ class TeamBatchEnv:
         team.choose(options)
         if options is not None:
             self._played[rows] = [options[a] for a in self.agents]
-        gamma, discount = self.setup.cycle_gamma, 1.0
-        total = np.zeros(self.team_size)
-        for cycle in range(self.setup.actions.action_repeat):
+
+        def actions(cycle: int) -> dict:
             act = team.act(env.team_host.observations[LEARNER_SIDE])
-            if cycle == 0:
+            if cycle == 0:  # the rule chose in this call: the decision's label
                 self._labels[rows] = team.rule_options(self.agents)
                 if options is None:
                     self._played[rows] = self._labels[rows]
-            obs, rew, term, trunc, infos = env.step(act)
+            return act
+
+        return self._cycles(copy, actions)
+
+    def _cycles(self, copy: int, actions) -> tuple[np.ndarray, bool, bool]:
+        """Play ``action_repeat`` cycles in ``copy`` with ``actions(cycle)``; the slots'
+        discounted reward, whether the episode ended, and whether it was cut."""
+        env, rows = self._env[copy], self._rows(copy)
+        gamma, discount = self.setup.cycle_gamma, 1.0
+        total = np.zeros(self.team_size)
+        for cycle in range(self.setup.actions.action_repeat):
+            obs, rew, term, trunc, infos = env.step(actions(cycle))
             total += discount * np.array([rew[x] for x in self.agents])
             discount *= gamma
             self._raw[rows] = np.stack([obs[x] for x in self.agents])

@@ -189,8 +189,8 @@ def _option_actions(training: dict[str, Any]) -> dict[str, Any]:
     ``option_team`` (none: the default action setup, keeping its action repeat)."""
     from dataclasses import asdict
 
-    from teamenv.selfplay.training_setup import ActionSetup, option_actions
     from teamenv.errors import TeamLoadError
+    from teamenv.selfplay.training_setup import ActionSetup, option_actions
     from teamenv.teams import resolve_team_class
     from teamenv.tournament.errors import TournamentError
     from teamenv.tournament.spec import parse_team_spec

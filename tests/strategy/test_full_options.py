@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import teamenv
-from strategy.decision.field_player import COVER, HOLD, OPTIONS, PLAY_BALL
+from strategy.decision.field_player import COVER, HOLD, PLAY_BALL
 from teamenv.errors import ConfigError
 
 AGENTS = [f"left_{k}" for k in range(1, 6)]

@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 import teamenv
-from strategy.teams.full_options import SWITCH_MARGIN
 from strategy.decision.field_player import COVER, HOLD, OPTIONS, PLAY_BALL
+from strategy.teams.full_options import SWITCH_MARGIN
 from teamenv.errors import ConfigError
 from teamenv.selfplay.batch_env import OPTION_LABEL, TeamBatchEnv
 from teamenv.selfplay.learner import PolicyWeights
