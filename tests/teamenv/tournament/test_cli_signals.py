@@ -43,8 +43,10 @@ def _stored(db: Path) -> int:
 def test_a_signal_stops_a_tournament_and_its_workers(tmp_path, sig, status):
     db = tmp_path / "t.sqlite"
     proc = subprocess.Popen(
+        # matches long enough that the last ones cannot finish between the check below and
+        # the signal on a loaded machine (with 4 s halves CI once saw it exit 0 under load)
         [TEAMENV, "tournament", "run", "chaser", "static", "--games", "6", "--team-size", "2",
-         "--half-time", "4", "--halves", "1", "-j", "2", "--db", str(db), "--no-progress"],
+         "--half-time", "12", "--halves", "1", "-j", "2", "--db", str(db), "--no-progress"],
         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, start_new_session=True)
     deadline = time.monotonic() + 240
     while time.monotonic() < deadline and proc.poll() is None:  # until the pool is up and a
