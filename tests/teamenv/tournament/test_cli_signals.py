@@ -33,6 +33,13 @@ def _session_members(sid: int) -> list[int]:
     return found
 
 
+def _default_interrupt() -> None:
+    """In the child before exec: Ctrl-C's default disposition. An ignored signal stays ignored
+    across exec, and a pytest-xdist worker ignores SIGINT, so under ``-n 2`` the command would
+    never see the interrupt and run to the end (CI saw it exit 0)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _stored(db: Path) -> int:
     with sqlite3.connect(db) as con:
         return con.execute("SELECT COUNT(*) FROM matches").fetchone()[0]
@@ -43,11 +50,10 @@ def _stored(db: Path) -> int:
 def test_a_signal_stops_a_tournament_and_its_workers(tmp_path, sig, status):
     db = tmp_path / "t.sqlite"
     proc = subprocess.Popen(
-        # matches long enough that the last ones cannot finish between the check below and
-        # the signal on a loaded machine (with 4 s halves CI once saw it exit 0 under load)
         [TEAMENV, "tournament", "run", "chaser", "static", "--games", "6", "--team-size", "2",
-         "--half-time", "12", "--halves", "1", "-j", "2", "--db", str(db), "--no-progress"],
-        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, start_new_session=True)
+         "--half-time", "4", "--halves", "1", "-j", "2", "--db", str(db), "--no-progress"],
+        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, start_new_session=True,
+        preexec_fn=_default_interrupt)
     deadline = time.monotonic() + 240
     while time.monotonic() < deadline and proc.poll() is None:  # until the pool is up and a
         if db.exists() and len(_session_members(proc.pid)) >= 3:  # match or two are stored
