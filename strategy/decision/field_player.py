@@ -95,14 +95,12 @@ class FieldPlayerDecisionMaker:
         plans: list[ControlRequest | Hold | None] = [None] * len(wms)
         open_play = []
         for i, (wm, positioning) in enumerate(zip(wms, positionings, strict=True)):
-            if wm.fallen:
-                plans[i] = ControlRequest(behaviour="fallen")
-            elif situation(wm.play_mode) is Situation.PLAY_ON:
+            if not wm.fallen and situation(wm.play_mode) is Situation.PLAY_ON:
                 open_play.append(i)
-            else:
-                plans[i] = self._set_piece(wm, positioning)
-            if i not in open_play[-1:]:  # no open-play option while down or in a set play
-                self.chosen_options.pop(wm.me, None)
+                continue
+            self.chosen_options.pop(wm.me, None)  # no open-play option while down or in a set play
+            plans[i] = ControlRequest(behaviour="fallen") if wm.fallen else \
+                self._set_piece(wm, positioning)
         if open_play:
             self._open_play([wms[i] for i in open_play], [positionings[i] for i in open_play],
                             open_play, plans)
