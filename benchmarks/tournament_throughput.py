@@ -1,10 +1,11 @@
 """Benchmark: tournament throughput (matches per hour) per backend, per-match overhead, start-up.
 
-Plays one round robin of the registered (built-in) teams four ways and checks that all of them
+Plays one round robin of the registered (built-in) teams five ways and checks that all of them
 store exactly the same results:
 
 - ``serial``: in-process, one match after another through ``execute_task`` (no pool, no
-  database): the baseline;
+  database): the baseline; ``serial, new envs`` the same with an env built for every match
+  (``execute_task`` keeps a worker's envs between matches: ``teamenv.match_envs``);
 - ``process -j 1`` and ``process -j 2``: ``run_tournament`` with the local process pool;
 - ``ray x2``: ``run_tournament`` on a local Ray instance with ``num_cpus=2`` (ray.init and
   shutdown included, as the CLI pays them).
@@ -39,7 +40,7 @@ from typing import Any
 
 from teamenv.match import MatchOptions
 from teamenv.teams import registered_teams
-from teamenv.tournament import ResultStore, round_robin, run_tournament, validate_specs
+from teamenv.tournament import ResultStore, backends, round_robin, run_tournament, validate_specs
 from teamenv.tournament.backends import ProcessPoolBackend, execute_task
 
 #: registered teams that cannot play without a config (the policy team loads a weights file)
@@ -79,14 +80,14 @@ def ray_start_s(jobs: int, names: tuple[str, ...]) -> tuple[float, float]:
     import ray
 
     from teamenv.tournament.backends import RayBackend
+    from teamenv.tournament.ray_cluster import init_ray
 
-    extra = {}
     niceness = getattr(RayBackend(num_cpus=jobs), "worker_niceness", None)
-    if niceness is not None:  # as the backend starts its local instance
-        extra["_system_config"] = {"worker_niceness": niceness}
+    # as the backend starts its local instance (a private one, whatever else runs here)
+    config = None if niceness is None else {"worker_niceness": niceness}
     start = time.perf_counter()
-    ray.init(num_cpus=jobs, include_dashboard=False, log_to_driver=False,
-             configure_logging=False, **extra)
+    init_ray(None, jobs, local_system_config=config, include_dashboard=False,
+             log_to_driver=False, configure_logging=False)
     init = time.perf_counter() - start
     remote = ray.remote(num_cpus=1)(_probe)
     pids: set[int] = set()
@@ -135,6 +136,7 @@ def _line(label: str, n: int, wall: float, match_s: float, workers: int, extra: 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--field", default="simspark")
     parser.add_argument("--team-size", type=int, default=11)
     parser.add_argument("--half-time", type=float, default=20.0, help="seconds per half")
     parser.add_argument("--halves", type=int, default=2)
@@ -149,7 +151,7 @@ def main() -> None:
     args = parser.parse_args()
 
     teams = args.teams or sorted(t for t in registered_teams() if t not in NEEDS_CONFIG)
-    options = MatchOptions(team_size=args.team_size, half_time_s=args.half_time,
+    options = MatchOptions(field=args.field, team_size=args.team_size, half_time_s=args.half_time,
                            halves=args.halves)
     t = round_robin("bench", teams, games_per_pairing=args.games, options=options)
     tasks = t.schedule()
@@ -173,16 +175,22 @@ def main() -> None:
     best: dict[str, tuple[float, float, int, str]] = {}
     rows: dict[str, list] = {}
 
-    serial_results: list = []
-    for _ in range(args.repeat):
-        start = time.perf_counter()
-        serial_results = [execute_task(task) for task in tasks]
-        wall = time.perf_counter() - start
-        match_s = sum(r.wall_s for r in serial_results)
-        if "serial" not in best or wall < best["serial"][0]:
-            best["serial"] = (wall, match_s, 1, "")
-    rows["serial"] = _serial_rows(tasks, serial_results)
-    print(_line("serial", n, *best["serial"][:3]), flush=True)
+    kept_envs = backends.MATCH_ENVS
+    for label, envs in (("serial, new envs", None), ("serial", kept_envs)):
+        serial_results: list = []
+        backends.MATCH_ENVS = envs  # None: every match builds its env (before envs were kept)
+        for _ in range(args.repeat):
+            if envs is not None:
+                envs.clear()  # each run builds its envs once, as a fresh worker does
+            start = time.perf_counter()
+            serial_results = [execute_task(task) for task in tasks]
+            wall = time.perf_counter() - start
+            match_s = sum(r.wall_s for r in serial_results)
+            if label not in best or wall < best[label][0]:
+                best[label] = (wall, match_s, 1, "")
+        rows[label] = _serial_rows(tasks, serial_results)
+        print(_line(label, n, *best[label][:3]), flush=True)
+    backends.MATCH_ENVS = kept_envs
 
     runs = [("process -j 1", "process", 1), ("process -j 2", "process", 2)]
     if not args.no_ray:
@@ -208,6 +216,8 @@ def main() -> None:
             print(_line(label, n, wall, match_s, jobs, extra), flush=True)
 
         serial_rate = n / best["serial"][0]
+        print(f"  serial: {best['serial, new envs'][0] / best['serial'][0]:.3f}x serial with "
+              "an env built for every match")
         for label, *_ in runs:
             print(f"  {label}: {n / best[label][0] / serial_rate:.2f}x serial")
         same = all(rows[label] == rows["serial"] for label in rows)

@@ -17,6 +17,7 @@ from teamenv.capabilities import DEFAULT_LOCOMOTION_PROFILE
 from teamenv.config import RulesConfig, build_config
 from teamenv.env import SIDES, SoccerParallelEnv
 from teamenv.errors import TeamFault
+from teamenv.match_envs import MatchEnvs, env_key
 from teamenv.replay import ReplayRecorder
 from teamenv.teams import team_version
 
@@ -200,7 +201,7 @@ def play_match(
     left_config: Mapping[str, Any] | None = None, right_config: Mapping[str, Any] | None = None,
     cycle_time_budget_s: float | None = None, stall_timeout_s: float | None = 10.0,
     replay_path: str | Path | None = None, *, team_versions: tuple[str, str] | None = None,
-    replay_extras: bool = False,
+    replay_extras: bool = False, envs: MatchEnvs | None = None,
 ) -> MatchResult:
     """Play a whole match; never raises for a team's fault (the team forfeits instead).
 
@@ -211,15 +212,27 @@ def play_match(
     agent's belief and roles (from the teams' optional ``annotations()``).
     ``team_versions``: the (left, right) teams' versions when the caller has looked them up
     already (a tournament worker does it once per team); None looks them up (``team_version``).
+    ``envs``: where this process keeps envs between matches (``teamenv.match_envs``): the
+    match takes the env built for the same teams, configs, options and budget if there is one,
+    and gives it back unless a team faulted or stalled; None builds one and closes it after.
     """
     if options is None:
         options = MatchOptions()
     elif not isinstance(options, MatchOptions):
         options = MatchOptions.from_dict(options)
     start = time.perf_counter()
-    env = SoccerParallelEnv(left=left, right=right, left_config=left_config,
-                            right_config=right_config, team_cycle_budget_s=cycle_time_budget_s,
-                            **options.env_kwargs())
+    env_kwargs = options.env_kwargs()
+
+    def build() -> SoccerParallelEnv:
+        return SoccerParallelEnv(left=left, right=right, left_config=left_config,
+                                 right_config=right_config,
+                                 team_cycle_budget_s=cycle_time_budget_s, **env_kwargs)
+
+    key = None if envs is None else \
+        env_key(left, right, left_config, right_config, env_kwargs, cycle_time_budget_s)
+    env = build() if envs is None else envs.take(key, build)
+    # a kept env's teams have played before: their act() time is counted from here
+    time_before = dict(env.team_time_s)
     recorder = ReplayRecorder(env, replay_extras) if replay_path is not None else None
     forfeit: Forfeit | None = None
     goals: list[Goal] = []
@@ -249,14 +262,18 @@ def play_match(
         seed=seed, left=left, right=right, score=tuple(env.sim.referee.score), goals=tuple(goals),
         cycles=env.sim.cycle, wall_s=wall, forfeit=forfeit,
         team_versions=team_versions or (team_version(left), team_version(right)),
-        team_time_s=(env.team_time_s.get("left", 0.0), env.team_time_s.get("right", 0.0)),
+        team_time_s=tuple(env.team_time_s.get(side, 0.0) - time_before.get(side, 0.0)
+                          for side in SIDES),
         options=options)
     if recorder:
         recorder.save(replay_path, metadata={
             "left": left, "right": right, "seed": seed, "options": options.to_dict(),
             "left_config": dict(left_config or {}), "right_config": dict(right_config or {}),
             "result": json.loads(json.dumps(result.to_dict(), default=str))})
-    env.close()
+    if envs is not None and key is not None and forfeit is None:
+        envs.give_back(key, env)
+    else:
+        env.close()
     return result
 
 

@@ -20,6 +20,7 @@ from typing import Any, Protocol
 
 from teamenv.errors import MissingExtraError
 from teamenv.match import MatchResult, play_match
+from teamenv.match_envs import MatchEnvs
 from teamenv.teams import resolve_team_class, team_version
 from teamenv.tournament.errors import TournamentConfigError
 from teamenv.tournament.ray_cluster import LOCAL, init_ray
@@ -30,6 +31,8 @@ BACKENDS = ("process", "ray", "serial")
 # Per-process caches of a worker (a pool process, a Ray worker, or the caller for "serial"):
 # filled by its first match with a team, reused by every later one, never shipped anywhere.
 _TEAM_VERSIONS: dict[str, str] = {}
+#: the envs of the matches this process played, kept for its next ones (``teamenv.match_envs``)
+MATCH_ENVS = MatchEnvs()
 
 
 @dataclass(frozen=True)
@@ -65,16 +68,17 @@ def warm_up(names: Sequence[str] = ()) -> int:
 def execute_task(task: MatchTask) -> MatchResult:
     """Play one scheduled match (in whatever process runs it). Team faults become forfeits.
 
-    A fresh env is built for every match, so a match depends on its task only, never on what
-    its worker played before. (Since ``reset`` builds a new physics world, a reset env would
-    replay a fresh one bit for bit too; reusing envs would save ~35 ms a match.)
+    The process keeps its envs between matches (``MATCH_ENVS``): a match on a kept env is the
+    match on a fresh one, bit for bit (``reset`` restores everything a match depends on), so a
+    match still depends on its task only, never on what its worker played before.
     """
     left, right = task.left.name, task.right.name
     return play_match(left, right, task.seed, task.options,
                       left_config=task.left.config_dict, right_config=task.right.config_dict,
                       cycle_time_budget_s=task.cycle_time_budget_s,
                       stall_timeout_s=task.stall_timeout_s, replay_path=task.replay_path,
-                      team_versions=(_team_version(left), _team_version(right)))
+                      team_versions=(_team_version(left), _team_version(right)),
+                      envs=MATCH_ENVS)
 
 
 def team_names(tasks: Sequence[MatchTask]) -> tuple[str, ...]:
