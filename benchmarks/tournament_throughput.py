@@ -216,8 +216,8 @@ def main() -> None:
             print(_line(label, n, wall, match_s, jobs, extra), flush=True)
 
         serial_rate = n / best["serial"][0]
-        print(f"  serial: {best['serial, new envs'][0] / best['serial'][0]:.3f}x serial with "
-              "an env built for every match")
+        print(f"  serial (kept envs): {best['serial, new envs'][0] / best['serial'][0]:.3f}x the "
+              "matches/h of serial with an env built for every match")
         for label, *_ in runs:
             print(f"  {label}: {n / best[label][0] / serial_rate:.2f}x serial")
         same = all(rows[label] == rows["serial"] for label in rows)
