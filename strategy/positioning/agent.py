@@ -25,7 +25,7 @@ from strategy.memo import memoized
 from strategy.perception.worldmodel import WorldModel, WorldView
 from strategy.positioning.formation.model import Formation, FormationError
 from strategy.positioning.marking import MarkingParams, apply_marking
-from strategy.positioning.roles.assignment import FALLEN_PENALTY_M, assign_roles
+from strategy.positioning.roles.assignment import FALLEN_PENALTY_M, assign_roles_all
 from strategy.positioning.roles.message import decode_role_vote, encode_role_vote
 from strategy.positioning.roles.voting import DEFAULT_MAX_AGE_CYCLES, RoleVoter, RoleVoters
 from teamenv.field import FieldSpec, field_preset
@@ -159,9 +159,7 @@ class PositioningAgent:
         """``step`` of every agent ``agents[i]`` on its own ``views[i]``, formation, key,
         heard ``votes[i]`` and ballot (see ``step``); agents whose voters are rows of one
         ``RoleVoters`` count their votes in one pass."""
-        proposed = [agent._propose(view, formation, key, heard)
-                    for agent, view, formation, key, heard
-                    in zip(agents, views, formations, view_keys, votes, strict=True)]
+        proposed = PositioningAgent._propose_all(agents, views, formations, view_keys, votes)
         ballots = [own.position_of if ballot is None else ballot
                    for (_, _, own), ballot in zip(proposed, own_ballots, strict=True)]
         if vote:
@@ -181,29 +179,62 @@ class PositioningAgent:
                 for agent, (cycle, positions, own), team in zip(agents, proposed, teams,
                                                                strict=True)]
 
-    def _propose(self, view: WorldView, formation: Formation | None, view_key: bytes | None,
-                 votes: Sequence[tuple[int, NDArray[np.intp]]]):
-        """Advance a cycle, hear ``votes``, and look up (or compute) the positions and this
-        agent's own role vector for ``view``: (cycle, positions, own assignment)."""
-        f = self.formation if formation is None else formation
-        if f.n_players != self.n:
-            raise FormationError(
-                f"PositioningAgent {self.me}: formation {f.name!r} has {f.n_players} players, "
-                f"expected {self.n}"
-            )
-        cycle = self.cycle
-        self.cycle += 1
-        for sender, vector in votes:
-            if 0 <= sender < self.n:
-                self.voter.hear(sender, vector, cycle, validate=False)  # decoder checked it
-        key = None
-        if self.memo is not None:
-            key = (f, self.marking, self.fallen_penalty_m, view_key) if view_key is not None \
-                else (f, self.marking, self.fallen_penalty_m, view.ball.tobytes(),
-                      view.players.tobytes(), view.present.tobytes(), view.fallen.tobytes(),
-                      view.opponents.tobytes(), view.opponents_present.tobytes())
-        positions, own = memoized(self.memo, key, lambda: self._assign(f, view))
-        return cycle, positions, own
+    @staticmethod
+    def _propose_all(agents: Sequence[PositioningAgent], views: Sequence[WorldView],
+                     formations: Sequence[Formation | None],
+                     view_keys: Sequence[bytes | None],
+                     votes: Sequence[Sequence[tuple[int, NDArray[np.intp]]]]) -> list[tuple]:
+        """Advance each agent a cycle, hear its ``votes``, and look up the positions and its
+        own role vector for its view: (cycle, positions, own assignment) per agent. What no
+        memo holds is computed once per distinct view, the views of agents that assign alike
+        (formation, marking, penalty, pitch) together (``_assign_all``)."""
+        cycles, keys, fs = [], [], []
+        for agent, view, formation, view_key, heard in zip(agents, views, formations,
+                                                           view_keys, votes, strict=True):
+            f = agent.formation if formation is None else formation
+            if f.n_players != agent.n:
+                raise FormationError(
+                    f"PositioningAgent {agent.me}: formation {f.name!r} has {f.n_players} "
+                    f"players, expected {agent.n}"
+                )
+            cycle = agent.cycle
+            agent.cycle += 1
+            for sender, vector in heard:
+                if 0 <= sender < agent.n:
+                    agent.voter.hear(sender, vector, cycle, validate=False)  # decoder checked
+            cycles.append(cycle)
+            fs.append(f)
+            keys.append(None if agent.memo is None else agent._memo_key(f, view, view_key))
+        found: list[Any] = [None] * len(agents)
+        todo: dict[tuple, dict[Any, list[int]]] = {}  # assign alike -> key -> agents
+        for i, (agent, key) in enumerate(zip(agents, keys, strict=True)):
+            hit = None if key is None else agent.memo.get(key)  # type: ignore[union-attr]
+            if hit is not None:
+                found[i] = hit
+                continue
+            alike = (fs[i], agent.marking, agent.fallen_penalty_m, agent.field)
+            # agents without a memo (key None) compute their own
+            todo.setdefault(alike, {}).setdefault(key if key is not None else ("own", i),
+                                                  []).append(i)
+        for (f, *_), by_key in todo.items():
+            first = [members[0] for members in by_key.values()]
+            results = agents[first[0]]._assign_all(f, [views[i] for i in first])
+            for members, result in zip(by_key.values(), results, strict=True):
+                i = members[0]
+                if keys[i] is not None:
+                    memoized(agents[i].memo, keys[i], lambda result=result: result)
+                for j in members:
+                    found[j] = result
+        return [(cycle, positions, own) for cycle, (positions, own) in zip(cycles, found,
+                                                                           strict=True)]
+
+    def _memo_key(self, f: Formation, view: WorldView, view_key: bytes | None) -> tuple:
+        """What the pure part of a step depends on: its memo key."""
+        if view_key is not None:
+            return (f, self.marking, self.fallen_penalty_m, view_key)
+        return (f, self.marking, self.fallen_penalty_m, view.ball.tobytes(),
+                view.players.tobytes(), view.present.tobytes(), view.fallen.tobytes(),
+                view.opponents.tobytes(), view.opponents_present.tobytes())
 
     def _decided(self, cycle: int, positions: NDArray[np.float64], own: Any,
                  team: NDArray[np.intp]) -> PositioningDecision:
@@ -219,20 +250,27 @@ class PositioningAgent:
         return [v for v in (decode_role_vote(t, self.n, self.channel) for t in heard)
                 if v is not None]
 
-    def _assign(self, f: Formation, view: WorldView):
-        """Formation lookup, marking and role assignment for ``view`` (a pure function)."""
-        positions = f.home_positions(view.ball)
+    def _assign_all(self, f: Formation, views: Sequence[WorldView]) -> list[tuple]:
+        """Formation lookup, marking and role assignment for each of ``views`` (a pure
+        function of each view, with this agent's marking, penalty and pitch): (positions,
+        own assignment) per view, the role assignments solved together
+        (``assign_roles_all``: each the bits of its own)."""
+        positions = [f.home_positions(view.ball) for view in views]
         if self.marking is not None:
-            positions = apply_marking(positions, view.ball, view.opponents, self.field,
-                                      self.marking, view.opponents_present,
-                                      protected=_protected(f)).positions
+            positions = [apply_marking(pos, view.ball, view.opponents, self.field, self.marking,
+                                       view.opponents_present, protected=_protected(f)).positions
+                         for pos, view in zip(positions, views, strict=True)]
         gi = f.goalie_index
-        own = assign_roles(view.players, positions, available=view.present, fallen=view.fallen,
-                           goalie=0 if gi is not None else None,
-                           goalie_position=gi if gi is not None else 0,
-                           fallen_penalty_m=self.fallen_penalty_m)
-        positions.flags.writeable = False
-        return positions, own
+        own = assign_roles_all(np.array([view.players for view in views]), np.array(positions),
+                               available=np.array([view.present for view in views]),
+                               fallen=np.array([view.fallen for view in views]),
+                               goalie=0 if gi is not None else None,
+                               goalie_position=gi if gi is not None else 0,
+                               fallen_penalty_m=self.fallen_penalty_m)
+        for pos in positions:
+            pos.flags.writeable = False
+        return list(zip(positions, own, strict=True))
+
 
 def _protected(f: Formation) -> tuple[int, ...]:
     gi = f.goalie_index

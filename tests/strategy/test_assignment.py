@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 from strategy.positioning.roles import (
     RoleAssignmentError,
     assign_roles,
+    assign_roles_all,
     solve_greedy,
     solve_mmd_msd2,
 )
@@ -170,3 +171,38 @@ def test_bad_input_names_the_field():
         assign_roles(ok, ok, method="auction")
     with pytest.raises(RoleAssignmentError, match="fallen_penalty_m"):
         assign_roles(ok, ok, fallen_penalty_m=-1.0)
+
+
+@pytest.mark.parametrize("goalie", [0, None])
+def test_problems_solved_together_get_the_bits_each_gets_alone(goalie):
+    # A team's agents in vision mode, each with its own belief: unavailable players (NaN
+    # positions), fallen ones, scales from centimetres to a pitch
+    rng = np.random.default_rng(5)
+    a, n = 40, 7
+    players = rng.uniform(-15, 15, (a, n, 2)) * rng.uniform(0.01, 1.0, (a, 1, 1))
+    positions = rng.uniform(-15, 15, (a, n, 2))
+    available = rng.random((a, n)) < 0.85
+    players[~available] = np.nan
+    fallen = rng.random((a, n)) < 0.2
+    together = assign_roles_all(players, positions, available=available,
+                                                  fallen=fallen, goalie=goalie)
+    for k, got in enumerate(together):
+        alone = assign_roles(players[k], positions[k], available=available[k],
+                             fallen=fallen[k], goalie=goalie)
+        assert got.position_of.tolist() == alone.position_of.tolist()
+        assert (got.max_distance, got.sum_squared) == (alone.max_distance, alone.sum_squared)
+    # and the distances are scipy's cdist, bit for bit
+    from scipy.spatial.distance import cdist
+    d = assignment_module._distances(np.nan_to_num(players), positions)
+    assert all(np.array_equal(d[k], cdist(np.nan_to_num(players[k]), positions[k]))
+               for k in range(a))
+
+
+def test_stacked_input_is_checked():
+    with pytest.raises(RoleAssignmentError, match=r"players must have shape \(A, N, 2\)"):
+        assign_roles_all(np.zeros((3, 2)), np.zeros((3, 2)))
+    with pytest.raises(RoleAssignmentError, match=r"positions has shape \(1, 2, 2\)"):
+        assign_roles_all(np.zeros((1, 3, 2)), np.zeros((1, 2, 2)))
+    with pytest.raises(RoleAssignmentError, match=r"fallen must have shape \(1, 3\)"):
+        assign_roles_all(np.zeros((1, 3, 2)), np.zeros((1, 3, 2)),
+                                           fallen=np.zeros(3, bool))

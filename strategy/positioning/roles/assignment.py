@@ -186,6 +186,8 @@ def assign_roles(
 
     Returns:
         An ``Assignment`` whose ``position_of`` is a permutation of 0..N-1.
+
+    This is ``assign_roles_all`` of one problem.
     """
     p = _points(players, "players")
     q = _points(positions, "positions")
@@ -194,6 +196,47 @@ def assign_roles(
         raise RoleAssignmentError(
             f"assign_roles: positions has {len(q)} rows, expected {n} (one per player)"
         )
+    avail = None if available is None else _mask(available, n, "available")[None]
+    fall = None if fallen is None else _mask(fallen, n, "fallen")[None]
+    return _assign_all(p[None], q[None], avail, fall, goalie, goalie_position,
+                       fallen_penalty_m, method)[0]
+
+
+def assign_roles_all(
+    players: ArrayLike,
+    positions: ArrayLike,
+    *,
+    available: ArrayLike | None = None,
+    fallen: ArrayLike | None = None,
+    goalie: int | None = 0,
+    goalie_position: int = 0,
+    fallen_penalty_m: float = FALLEN_PENALTY_M,
+    method: str = "mmd_msd2",
+) -> list[Assignment]:
+    """``assign_roles`` of A problems of one size at once (e.g. every agent of a team, each on
+    its own belief): players, positions (A, N, 2); available, fallen (A, N) bool. Each
+    problem gets the assignment ``assign_roles`` gives it alone, bit for bit: the distances
+    are computed for all problems in one pass (as ``cdist`` does: ``sqrt(dx*dx + dy*dy)``),
+    the exact search runs per problem."""
+    p = _stacked(players, "players")
+    q = _stacked(positions, "positions")
+    if q.shape != p.shape:
+        raise RoleAssignmentError(
+            f"assign_roles_all: positions has shape {q.shape}, expected {p.shape} (one per "
+            "player of each problem)"
+        )
+    shape = p.shape[:2]
+    avail = None if available is None else _mask(available, shape, "available")
+    fall = None if fallen is None else _mask(fallen, shape, "fallen")
+    return _assign_all(p, q, avail, fall, goalie, goalie_position, fallen_penalty_m, method)
+
+
+def _assign_all(p: NDArray[np.float64], q: NDArray[np.float64],
+                avail_all: NDArray[np.bool_] | None, fall_all: NDArray[np.bool_] | None,
+                goalie: int | None, goalie_position: int, fallen_penalty_m: float,
+                method: str) -> list[Assignment]:
+    """The assignments of checked problems p, q (A, N, 2); masks (A, N) or None."""
+    n = p.shape[1]
     if method == "mmd_msd2":
         solver = solve_mmd_msd2
     elif method == "greedy":
@@ -211,26 +254,55 @@ def assign_roles(
             f"assign_roles: goalie={goalie!r}, goalie_position={goalie_position!r} must be in "
             f"0..{n - 1}"
         )
-    avail = None if available is None else _mask(available, n, "available")
-    if avail is not None and min(avail.tolist()):
-        avail = None
-    dist = cdist(p, q)
-    if not math.isfinite(float(dist.sum())):  # one check for both inputs (cheap when finite)
-        if not np.isfinite(q).all():
-            raise RoleAssignmentError("assign_roles: positions must be finite metres")
-        bad = ~np.isfinite(p).all(axis=1)
-        if avail is not None:
-            bad &= avail
-        if bad.any():
-            i = int(np.flatnonzero(bad)[0])
-            raise RoleAssignmentError(
-                f"assign_roles: players[{i}] = {tuple(p[i].tolist())} is not finite (mark it unavailable)"
-            )
-        dist = cdist(np.where(np.isfinite(p), p, 0.0), q)
-    if fallen is not None:
-        fall = _mask(fallen, n, "fallen")
-        if max(fall.tolist(), default=False):
-            dist[fall] += float(fallen_penalty_m)
+    dist_all = _distances(p, q)
+    finite = np.isfinite(dist_all.reshape(len(p), -1).sum(axis=1)).tolist()
+    # Small arrays: Python's min/max over .tolist() is ~4x cheaper than a NumPy reduction.
+    whole = [True] * len(p) if avail_all is None else avail_all.all(axis=1).tolist()
+    any_fallen = [False] * len(p) if fall_all is None else fall_all.any(axis=1).tolist()
+    out = []
+    for a in range(len(p)):
+        avail = None if whole[a] else avail_all[a]  # type: ignore[index]
+        dist = dist_all[a]
+        if not finite[a]:  # one check for both inputs (cheap when finite)
+            dist = _finite_distances(p[a], q[a], avail)
+        if any_fallen[a]:
+            dist[fall_all[a]] += float(fallen_penalty_m)  # type: ignore[index]
+        out.append(_assign_one(dist, avail, solver, goalie, goalie_position))
+    return out
+
+
+def _distances(p: NDArray[np.float64], q: NDArray[np.float64]) -> NDArray[np.float64]:
+    """(A, N, M) distances of players p (A, N, 2) to positions q (A, M, 2): ``cdist``'s
+    Euclidean arithmetic (the squares summed in axis order, then the root), all at once."""
+    dx = p[:, :, None, 0] - q[:, None, :, 0]
+    dy = p[:, :, None, 1] - q[:, None, :, 1]
+    dx *= dx
+    dy *= dy
+    dx += dy
+    return np.sqrt(dx, out=dx)
+
+
+def _finite_distances(p: NDArray[np.float64], q: NDArray[np.float64],
+                      avail: NDArray[np.bool_] | None) -> NDArray[np.float64]:
+    """The distances of a problem with a non-finite input: an error naming it, unless every
+    non-finite player is unavailable (its distances are then computed from the origin)."""
+    if not np.isfinite(q).all():
+        raise RoleAssignmentError("assign_roles: positions must be finite metres")
+    bad = ~np.isfinite(p).all(axis=1)
+    if avail is not None:
+        bad &= avail
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise RoleAssignmentError(
+            f"assign_roles: players[{i}] = {tuple(p[i].tolist())} is not finite (mark it unavailable)"
+        )
+    return _distances(np.where(np.isfinite(p), p, 0.0)[None], q[None])[0]
+
+
+def _assign_one(dist: NDArray[np.float64], avail: NDArray[np.bool_] | None, solver,
+                goalie: int | None, goalie_position: int) -> Assignment:
+    """One problem's assignment from its distances (penalties added); ``avail`` None: all."""
+    n = len(dist)
     if avail is None and goalie == 0 and goalie_position == 0:  # the usual case: a view
         sub = dist[1:, 1:]
         r, c = solver(sub)  # square: r is 0..n-2 in order
@@ -279,8 +351,21 @@ def _points(value: ArrayLike, name: str) -> NDArray[np.float64]:
     return a
 
 
-def _mask(value: ArrayLike, n: int, name: str) -> NDArray[np.bool_]:
+def _stacked(value: ArrayLike, name: str) -> NDArray[np.float64]:
+    try:
+        a = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise RoleAssignmentError(f"{name} must be numbers, got {value!r}") from None
+    if a.ndim != 3 or a.shape[2] != 2:
+        raise RoleAssignmentError(
+            f"{name} must have shape (A, N, 2) in metres, got shape {a.shape}")
+    return a
+
+
+def _mask(value: ArrayLike, shape: int | tuple[int, ...], name: str) -> NDArray[np.bool_]:
     a = np.asarray(value)
-    if a.shape != (n,):
-        raise RoleAssignmentError(f"{name} must have shape ({n},), got shape {a.shape}")
+    shape = (shape,) if isinstance(shape, int) else shape
+    if a.shape != shape:
+        shown = f"({shape[0]},)" if len(shape) == 1 else str(shape)
+        raise RoleAssignmentError(f"{name} must have shape {shown}, got shape {a.shape}")
     return a if a.dtype == np.bool_ else a.astype(bool)
