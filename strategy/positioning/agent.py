@@ -255,7 +255,7 @@ class PositioningAgent:
         function of each view, with this agent's marking, penalty and pitch): (positions,
         own assignment) per view, the role assignments solved together
         (``assign_roles_all``: each the bits of its own)."""
-        positions = [f.home_positions(view.ball) for view in views]
+        positions = list(f.home_positions_many(np.array([view.ball for view in views])))
         if self.marking is not None:
             positions = [apply_marking(pos, view.ball, view.opponents, self.field, self.marking,
                                        view.opponents_present, protected=_protected(f)).positions

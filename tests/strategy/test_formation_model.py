@@ -193,3 +193,24 @@ def test_arrays_are_read_only():
         f.sample_positions[0, 0, 0] = 1.0
     with pytest.raises(ValueError):
         f.ball_samples[0, 0] = 1.0
+
+
+@pytest.mark.parametrize("outside", ["project", "nearest"])
+def test_many_balls_get_the_bits_each_gets_alone(outside):
+    # balls on triangle edges and at samples (Qhull's search for the next ball starts where
+    # the last one was found, so such a ball may land in the other triangle), inside, outside
+    from strategy.positioning.formation.builtin import builtin_formation
+
+    f = builtin_formation("11v11-attack", "simspark")
+    f = Formation(f.roles, f.ball_samples, f.sample_positions, field=f.field_size,
+                  name=f.name, outside=outside)
+    rng = np.random.default_rng(3)
+    corners = f.ball_samples[f.simplices]
+    balls = np.concatenate([rng.uniform(-17, 17, (200, 2)), f.ball_samples,
+                            (corners[:, 0] + corners[:, 1]) / 2, np.zeros((2, 2))])
+    rng.shuffle(balls)
+    for chunk in np.array_split(balls, len(balls) // 11):
+        many = f.home_positions_many(chunk)
+        for k, ball in enumerate(chunk):
+            alone = f.home_positions(ball)
+            assert many[k].tobytes() == alone.tobytes()

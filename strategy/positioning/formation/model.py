@@ -25,7 +25,6 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-import portable_math as pm
 from teamenv.errors import ConfigError
 from teamenv.field import FieldSpec, field_preset
 
@@ -41,6 +40,12 @@ MIN_SAMPLE_SEPARATION_M = 1e-3
 FIELD_MARGIN_FRACTION = 0.05
 """Sample positions may lie outside the pitch lines by this fraction of the pitch length
 (1.5 m on simspark, 5.25 m on fifa); agent2d's files put ball samples 2 m beyond the lines."""
+
+
+#: barycentric margin under which a ball counts as on a triangle's edge (Qhull's own tolerance
+#: is ~100 x machine epsilon; this is wider, so every ball it might place in either neighbour
+#: is looked up alone)
+_EDGE_MARGIN = 1e-9
 
 
 class FormationError(ConfigError):
@@ -228,35 +233,60 @@ class Formation:
             raise FormationError(
                 f"formation {self.name!r}: ball must be a finite (x, y) in metres, got {ball!r}"
             )
-        if self._tri is None:
-            return self._positions[0].copy()
-        s = int(self._tri.find_simplex(b))
-        if s >= 0:
-            return pm.matmul(np.array([b[0], b[1], 1.0]), self._affine[s]).reshape(-1, 2)
-        return self._outside(b[None, :])[0]
+        return self._lookup(b[None, :])[0]
 
     def home_positions_many(self, balls: ArrayLike) -> NDArray[np.float64]:
-        """Home positions (M, N, 2), metres, for M ball positions (M, 2) in metres (vectorized)."""
+        """Home positions (M, N, 2), metres, for M ball positions (M, 2) in metres, each the
+        bits of ``home_positions`` of that ball alone (e.g. every agent's belief at once)."""
         b = np.asarray(balls, dtype=np.float64)
         if b.ndim != 2 or b.shape[1] != 2 or not np.isfinite(b).all():
             raise FormationError(
                 f"formation {self.name!r}: balls must be finite with shape (M, 2), "
                 f"got shape {b.shape}"
             )
+        return self._lookup(b)
+
+    def _lookup(self, b: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Home positions (M, N, 2) of checked balls b (M, 2): in the triangle that holds the
+        ball, the affine map ``(bx, by, 1) @ affine``, summed as ``einsum`` sums it for one
+        ball (``(bx a0 + by a1) + a2``, element-wise, so a ball's bits do not depend on the
+        others); outside the hull ``outside``'s rule."""
         m, n = b.shape[0], self.n_players
         if self._tri is None:
             return np.broadcast_to(self._positions[0], (m, n, 2)).copy()
-        out = np.empty((m, n * 2))
         s = self._tri.find_simplex(b)
+        if m > 1:
+            # Qhull's search for the next ball starts in the last one's triangle: a ball on an
+            # edge (in two triangles) may be found in the other one than when looked up alone,
+            # whose map gives the same place with other rounding. Those are looked up alone.
+            for k in np.flatnonzero(self._near_edge(b, s)).tolist():
+                s[k] = self._tri.find_simplex(b[k])
         inside = s >= 0
-        if inside.any():
+        out = np.empty((m, n * 2))
+        if inside.all():
+            affine = self._affine[s]
+            bi = b
+        else:
+            affine = self._affine[s[inside]]
             bi = b[inside]
-            h = np.column_stack([bi, np.ones(len(bi))])
-            out[inside] = np.einsum("mk,mkj->mj", h, self._affine[s[inside]])
+        rows = bi[:, 0, None] * affine[:, 0]
+        rows += bi[:, 1, None] * affine[:, 1]
+        rows += affine[:, 2]
+        out[inside] = rows
         result = out.reshape(m, n, 2)
-        if (~inside).any():
-            result[~inside] = self._outside(b[~inside])
+        for k in np.flatnonzero(~inside).tolist():  # one by one, as a lone ball is
+            result[k] = self._outside(b[k][None, :])[0]
         return result
+
+    def _near_edge(self, b: NDArray[np.float64], s: NDArray[np.intp]) -> NDArray[np.bool_]:
+        """Balls whose triangle ``s`` holds them within a margin of an edge (or that are
+        outside: s < 0, handled apart)."""
+        t = self._tri.transform[np.maximum(s, 0)]  # type: ignore[union-attr]
+        d = b - t[:, 2]
+        c0 = t[:, 0, 0] * d[:, 0] + t[:, 0, 1] * d[:, 1]
+        c1 = t[:, 1, 0] * d[:, 0] + t[:, 1, 1] * d[:, 1]
+        nearest = np.minimum(np.minimum(c0, c1), 1.0 - c0 - c1)
+        return (s >= 0) & (nearest < _EDGE_MARGIN)
 
     def _outside(self, b: NDArray[np.float64]) -> NDArray[np.float64]:
         """Home positions (M, N, 2) for balls (M, 2) outside the hull, by ``self.outside``."""
