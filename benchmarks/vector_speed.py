@@ -7,7 +7,8 @@ Vectorized with SuperSuit: ``pettingzoo_env_to_vec_env_v1`` (the agents become s
 observations); ``serial`` is one env stepped in this process through the same wrappers.
 
 VMAS: ``vmas.make_env("football", device="cpu")`` with the same number of players, every one
-an agent (``ai_red_agents=False``, shooting enabled so actions include a kick), random
+an agent (``ai_red_agents=False``; with shooting, so actions include a kick, and without:
+``--shooting``), random
 continuous actions drawn before timing, at each batch size of ``--vmas-batches``; its best is
 the batch size with the most agent-steps/s. VMAS steps all envs of a batch at once in torch.
 
@@ -18,6 +19,7 @@ that other load on a shared machine does not change much. Writes ``benchmarks/re
 
 Usage: python benchmarks/vector_speed.py [--team-sizes 5 11] [--envs 1 2 4] [--seconds 3]
                                          [--vmas-batches 1 8 32 128 512 2048 4096] [--repeats 3]
+                                         [--shooting on|off|both]
 """
 
 from __future__ import annotations
@@ -68,14 +70,14 @@ class TeamenvVector:
 class VmasFootball:
     """VMAS's football scenario, ``batch`` envs stepped as one torch batch on the CPU."""
 
-    def __init__(self, team_size: int, batch: int, seed: int = 0) -> None:
+    def __init__(self, team_size: int, batch: int, seed: int = 0, shooting: bool = True) -> None:
         import torch
         import vmas
 
         self.env = vmas.make_env("football", num_envs=batch, device="cpu",
                                  continuous_actions=True, seed=seed, n_blue_agents=team_size,
                                  n_red_agents=team_size, ai_red_agents=False,
-                                 enable_shooting=True)
+                                 enable_shooting=shooting)
         self.env.reset()
         self.agents_per_env = len(self.env.agents)
         self.n_envs = batch
@@ -143,6 +145,8 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--max-cycles", type=int, default=1000)
     parser.add_argument("--vmas-batches", type=int, nargs="+",
                         default=[1, 8, 32, 128, 512, 2048, 4096])
+    parser.add_argument("--shooting", choices=("on", "off", "both"), default="both",
+                        help="VMAS football with its shooting action, without, or both")
     parser.add_argument("--seconds", type=float, default=3.0, help="per timed repeat")
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--json", type=Path, default=RESULTS)
@@ -165,8 +169,11 @@ def main(argv: list[str] | None = None) -> None:
         for n in args.envs:
             configs[f"teamenv {n} env(s), {n} process(es)"] = TeamenvVector(
                 team_size, n, n, args.max_cycles)
-        for batch in args.vmas_batches:
-            configs[f"vmas football batch {batch}"] = VmasFootball(team_size, batch)
+        shooting = {"on": (True,), "off": (False,), "both": (True, False)}[args.shooting]
+        for shoots in shooting:
+            for batch in args.vmas_batches:
+                name = f"vmas football batch {batch}" + ("" if shoots else ", no shooting")
+                configs[name] = VmasFootball(team_size, batch, shooting=shoots)
         try:
             results = measure(configs, args.seconds, args.repeats)
         finally:
