@@ -33,8 +33,9 @@ step() {
     return "$rc"
 }
 status=0
-step "$VENV/bin/python" -m pytest -m "not slow" "${PARALLEL[@]}" "$@" || status=$?
+# --durations: the slowest tests are listed at the end (where CI time goes).
+step "$VENV/bin/python" -m pytest -m "not slow" "${PARALLEL[@]}" --durations=15 "$@" || status=$?
 echo "== slow tests (no per-test timeout; budget ${TEAMENV_SLOW_BUDGET_S:-3600} s) =="
 step timeout "${TEAMENV_SLOW_BUDGET_S:-3600}" "$VENV/bin/python" -m pytest -m slow \
-    --timeout=0 "${PARALLEL[@]}" "$@" || status=$?
+    --timeout=0 "${PARALLEL[@]}" --durations=15 "$@" || status=$?
 exit "$status"
