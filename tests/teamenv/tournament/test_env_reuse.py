@@ -77,8 +77,9 @@ def _rows(db, summary):
 
 
 def test_a_tournament_on_kept_envs_stores_the_rows_of_fresh_envs(tmp_path, monkeypatch):
+    short = MatchOptions(field="mj7v7", team_size=3, half_time_s=5.0, halves=1)
     tournament = round_robin("kept", ["full", "chaser", "static"], games_per_pairing=2, seed=5,
-                             options=STATE)
+                             options=short)
     monkeypatch.setattr(backends, "MATCH_ENVS", None)  # an env per match
     s = run_tournament(tournament, tmp_path / "fresh.sqlite", backend="serial", progress=False)
     fresh = _rows(tmp_path / "fresh.sqlite", s)
