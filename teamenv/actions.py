@@ -148,6 +148,14 @@ class ActionParser:
     def _fill_box(self, cmd: Commands, rows: list[int], agents: list[str], actions: list[Any],
                   dropped: dict[str, list[str]]) -> None:
         arr = _real_rows(actions, ACTION_SIZE)
+        idx = np.asarray(rows)
+        if arr is not None and arr.dtype.kind == "b":
+            arr = arr.astype(float)  # the kernel reads numbers
+        if arr is not None and arr.ndim == 2 and _box_kernel()(
+                arr, idx, self.walk_low, self.walk_high, self.field.half_length,
+                self.field.half_width, cmd.walk, cmd.kick_power, cmd.kick_dir,
+                cmd.beam_request, cmd.beam):
+            return  # every action finite and in range: decoded in one compiled pass
         if arr is None:
             arr = np.zeros((len(agents), ACTION_SIZE))
             for k, (agent, action) in enumerate(zip(agents, actions, strict=True)):
@@ -166,7 +174,6 @@ class ActionParser:
                 self._problem(agents[k], f"action[{j}]", float(arr[k, j]),
                               "must be in [-1, 1]; clipped in lenient mode", dropped)
             arr = np.clip(arr, -1.0, 1.0)
-        idx = np.asarray(rows)
         decoded = decode_box_actions(arr, self.walk_low, self.walk_high, self.field.half_length,
                                      self.field.half_width)
         cmd.walk[idx] = decoded.walk
@@ -288,6 +295,14 @@ def real_numbers(value: Any, size: int) -> tuple[np.ndarray | None, str]:
     if arr.shape != (size,):
         return None, f"must have shape ({size},), got {arr.shape}"
     return arr, ""
+
+
+def _box_kernel():
+    """The compiled Box decoder, imported on the first Box action: importing numba takes a
+    few tenths of a second that ``import teamenv`` should not pay."""
+    from teamenv.box_kernel import fill_box_rows
+
+    return fill_box_rows
 
 
 def _kind_name(dtype: np.dtype) -> str:

@@ -69,3 +69,51 @@ def test_unusual_input_gets_the_per_agent_errors():
         actions["right_2"] = bad
         with pytest.raises(error, match=words):
             env.step(actions)
+
+
+def _box_both(parser, rows, agents, actions, monkeypatch):
+    from teamenv import actions as actions_module
+
+    fast, slow = Commands.idle(22), Commands.idle(22)
+    parser.fill(fast, rows, agents, actions, {})
+    with monkeypatch.context() as m:  # the NumPy path: the kernel declines every batch
+        m.setattr(actions_module, "_box_kernel", lambda: lambda *args: False)
+        parser.fill(slow, rows, agents, actions, {})
+    for name in ("walk", "kick_power", "kick_dir", "beam_request", "beam"):
+        assert getattr(fast, name).tobytes() == getattr(slow, name).tobytes(), name
+
+
+@pytest.mark.parametrize("dtype", [np.float64, np.float32, np.int64, np.bool_])
+@pytest.mark.parametrize("rows", ["all", "right", "shuffled"])
+def test_compiled_box_path_writes_what_the_numpy_path_writes(dtype, rows, monkeypatch):
+    env = teamenv.parallel_env(team_size=11, action_format="box")
+    env.reset(seed=0)
+    rng = np.random.default_rng(7)
+    agents = list(env.agents)
+    if rows == "right":
+        agents = agents[11:]
+    elif rows == "shuffled":
+        agents = [agents[k] for k in rng.permutation(22)]
+    row_of = [env._row[a] for a in agents]
+    edges = np.array([-1.0, -0.0, 0.0, 1.0, -1.0 - 5e-7, 1.0 + 5e-7, 1e-300, -1e-300])
+    for _ in range(20):
+        box = rng.uniform(-1.0, 1.0, (len(agents), 9))
+        picks = rng.random(box.shape) < 0.3
+        box[picks] = rng.choice(edges, int(picks.sum()))
+        if dtype is np.int64:
+            box = np.rint(box)
+        actions = [row.astype(dtype) for row in box]
+        _box_both(env.parser, row_of, agents, actions, monkeypatch)
+
+
+def test_compiled_box_path_leaves_faults_to_the_numpy_path_that_names_them():
+    env = teamenv.parallel_env(team_size=1, action_format="box")
+    env.reset(seed=0)
+    bad = np.zeros(9)
+    bad[4] = np.nan
+    with pytest.raises(ActionError, match=r"left_1.*action\[4\].*nan.*must be finite"):
+        env.step({"left_1": bad, "right_1": np.zeros(9)})
+    env.reset(seed=0)
+    bad[4] = 1.5
+    with pytest.raises(ActionError, match=r"right_1.*action\[4\].*1\.5"):
+        env.step({"left_1": np.zeros(9), "right_1": bad})
