@@ -206,19 +206,21 @@ class PositioningAgent:
             fs.append(f)
             keys.append(None if agent.memo is None else agent._memo_key(f, view, view_key))
         found: list[Any] = [None] * len(agents)
-        todo: dict[tuple, dict[Any, list[int]]] = {}  # assign alike -> key -> agents
+        # agents that assign alike (the same formation, marking, penalty and pitch objects:
+        # by identity, which is cheap and never groups two that differ) -> memo key -> agents
+        todo: dict[tuple, dict[Any, list[int]]] = {}
         for i, (agent, key) in enumerate(zip(agents, keys, strict=True)):
             hit = None if key is None else agent.memo.get(key)  # type: ignore[union-attr]
             if hit is not None:
                 found[i] = hit
                 continue
-            alike = (fs[i], agent.marking, agent.fallen_penalty_m, agent.field)
+            alike = (id(fs[i]), id(agent.marking), agent.fallen_penalty_m, id(agent.field))
             # agents without a memo (key None) compute their own
             todo.setdefault(alike, {}).setdefault(key if key is not None else ("own", i),
                                                   []).append(i)
-        for (f, *_), by_key in todo.items():
+        for by_key in todo.values():
             first = [members[0] for members in by_key.values()]
-            results = agents[first[0]]._assign_all(f, [views[i] for i in first])
+            results = agents[first[0]]._assign_all(fs[first[0]], [views[i] for i in first])
             for members, result in zip(by_key.values(), results, strict=True):
                 i = members[0]
                 if keys[i] is not None:
