@@ -31,6 +31,7 @@ _FAST_KEYS = frozenset({"walk", "kick", "say"})
 _DICT = {dict}
 _STR = {str}
 _SILENCE_OR_STR = frozenset({str, type(None)})
+_KERNEL_FLOATS = (np.dtype(np.float64), np.dtype(np.float32))  # read by the Box kernel as they are
 _REAL_KINDS = frozenset("biuf")  # numpy dtype kinds of real numbers: bool, int, uint, float
 
 
@@ -149,9 +150,9 @@ class ActionParser:
                   dropped: dict[str, list[str]]) -> None:
         arr = _real_rows(actions, ACTION_SIZE)
         idx = np.asarray(rows)
-        if arr is not None and arr.dtype.kind == "b":
-            arr = arr.astype(float)  # the kernel reads numbers
-        if arr is not None and arr.ndim == 2 and _box_kernel()(
+        if arr is not None and arr.dtype.kind not in "iu" and arr.dtype not in _KERNEL_FLOATS:
+            arr = arr.astype(float)  # bool, float16, longdouble: as the NumPy path reads them
+        if arr is not None and _box_kernel()(
                 arr, idx, self.walk_low, self.walk_high, self.field.half_length,
                 self.field.half_width, cmd.walk, cmd.kick_power, cmd.kick_dir,
                 cmd.beam_request, cmd.beam):
