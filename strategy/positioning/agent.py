@@ -107,6 +107,10 @@ class PositioningAgent:
                                  f"{voter.me} of {voter.n}")
         self.voter = voter if voter is not None else RoleVoter(self.n, self.me, max_age_cycles)
         self.cycle = 0
+        # agents of equal marking, penalty and pitch assign alike: they share one object for
+        # the three (equal objects are one object; a copy from another process is its own)
+        kind = (self.marking, self.fallen_penalty_m, self.field)
+        self._assign_kind = _ASSIGN_KINDS.setdefault(kind, kind)
 
     def reset(self) -> None:
         """Start a new episode: forget heard vectors, restart the cycle count."""
@@ -206,15 +210,15 @@ class PositioningAgent:
             fs.append(f)
             keys.append(None if agent.memo is None else agent._memo_key(f, view, view_key))
         found: list[Any] = [None] * len(agents)
-        # agents that assign alike (the same formation, marking, penalty and pitch objects:
-        # by identity, which is cheap and never groups two that differ) -> memo key -> agents
+        # agents that assign alike (one formation object, one ``_assign_kind`` object: equal
+        # marking, penalty and pitch) -> memo key -> agents
         todo: dict[tuple, dict[Any, list[int]]] = {}
         for i, (agent, key) in enumerate(zip(agents, keys, strict=True)):
             hit = None if key is None else agent.memo.get(key)  # type: ignore[union-attr]
             if hit is not None:
                 found[i] = hit
                 continue
-            alike = (id(fs[i]), id(agent.marking), agent.fallen_penalty_m, id(agent.field))
+            alike = (id(fs[i]), id(agent._assign_kind))
             # agents without a memo (key None) compute their own
             todo.setdefault(alike, {}).setdefault(key if key is not None else ("own", i),
                                                   []).append(i)
@@ -272,6 +276,12 @@ class PositioningAgent:
         for pos in positions:
             pos.flags.writeable = False
         return list(zip(positions, own, strict=True))
+
+
+#: (marking, fallen penalty, pitch), one object per distinct value, so that ``step_all`` groups
+#: agents that assign alike by identity instead of hashing the three every cycle (a handful of
+#: entries per process)
+_ASSIGN_KINDS: dict[tuple, tuple] = {}
 
 
 def _protected(f: Formation) -> tuple[int, ...]:

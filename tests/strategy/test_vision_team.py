@@ -113,3 +113,24 @@ def _trajectory_hash(seed):
 def test_same_seed_same_vision_match_bit_for_bit():
     assert _trajectory_hash(4) == _trajectory_hash(4)
     assert _trajectory_hash(4) != _trajectory_hash(5)
+
+
+def test_a_vision_teams_beliefs_are_positioned_in_one_pass(monkeypatch):
+    # every agent believes something else: the formation lookups and role assignments of a
+    # cycle's distinct beliefs run together (PositioningAgent._assign_all), not one by one
+    from strategy.positioning.agent import PositioningAgent
+
+    sizes = []
+    assign_all = PositioningAgent._assign_all
+
+    def recorded(self, formation, views):
+        sizes.append(len(views))
+        return assign_all(self, formation, views)
+
+    monkeypatch.setattr(PositioningAgent, "_assign_all", recorded)
+    env = _env(cycles=120)
+    env.reset(seed=3)
+    while not env.episode_over:
+        env.step({})
+    assert sizes and max(sizes) == env.team_size
+    assert sum(s > 1 for s in sizes) > len(sizes) // 2
