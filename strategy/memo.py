@@ -26,7 +26,14 @@ def memoized(memo: dict | None, key: Hashable, compute: Callable[[], T]) -> T:
         return compute()
     hit = memo.get(key, _MISSING)
     if hit is _MISSING:
-        if len(memo) >= MEMO_LIMIT:
-            memo.clear()
-        hit = memo[key] = compute()
+        hit = remember(memo, key, compute())
     return hit
+
+
+def remember(memo: dict, key: Hashable, value: T) -> T:
+    """Keep ``value`` in ``memo`` under ``key`` (for results computed elsewhere, e.g. several
+    keys' at once); the cache is emptied first when full. Returns ``value``."""
+    if len(memo) >= MEMO_LIMIT:
+        memo.clear()
+    memo[key] = value
+    return value

@@ -228,9 +228,11 @@ def play_match(
                                  right_config=right_config,
                                  team_cycle_budget_s=cycle_time_budget_s, **env_kwargs)
 
-    key = None if envs is None else \
-        env_key(left, right, left_config, right_config, env_kwargs, cycle_time_budget_s)
-    env = build() if envs is None else envs.take(key, build)
+    if envs is None:
+        key, env = "", build()
+    else:
+        key = env_key(left, right, left_config, right_config, env_kwargs, cycle_time_budget_s)
+        env = envs.take(key, build)
     # a kept env's teams have played before: their act() time is counted from here
     time_before = dict(env.team_time_s)
     recorder = ReplayRecorder(env, replay_extras) if replay_path is not None else None
@@ -270,7 +272,7 @@ def play_match(
             "left": left, "right": right, "seed": seed, "options": options.to_dict(),
             "left_config": dict(left_config or {}), "right_config": dict(right_config or {}),
             "result": json.loads(json.dumps(result.to_dict(), default=str))})
-    if envs is not None and key is not None and forfeit is None:
+    if envs is not None and forfeit is None:
         envs.give_back(key, env)
     else:
         env.close()

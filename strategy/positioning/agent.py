@@ -21,7 +21,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from strategy.memo import memoized
+from strategy.memo import remember
 from strategy.perception.worldmodel import WorldModel, WorldView
 from strategy.positioning.formation.model import Formation, FormationError
 from strategy.positioning.marking import MarkingParams, apply_marking
@@ -228,7 +228,7 @@ class PositioningAgent:
             for members, result in zip(by_key.values(), results, strict=True):
                 i = members[0]
                 if keys[i] is not None:
-                    memoized(agents[i].memo, keys[i], lambda result=result: result)
+                    remember(agents[i].memo, keys[i], result)  # type: ignore[arg-type]
                 for j in members:
                     found[j] = result
         return [(cycle, positions, own) for cycle, (positions, own) in zip(cycles, found,

@@ -10,14 +10,28 @@ from teamenv.errors import ActionError, MessageError
 from teamenv.sim.simulation import Commands
 
 
+def _same_commands(fast, slow):
+    for name in ("walk", "kick_power", "kick_dir", "beam_request", "beam"):
+        assert getattr(fast, name).tobytes() == getattr(slow, name).tobytes(), name
+    assert fast.say == slow.say
+
+
+def _agents(env, rows, rng):
+    """The env's agents whose actions a test gives: all, the right side's, or shuffled."""
+    agents = list(env.agents)
+    if rows == "right":
+        return agents[11:]
+    if rows == "shuffled":
+        return [agents[k] for k in rng.permutation(22)]
+    return agents
+
+
 def _both(parser, rows, agents, actions):
     fast, slow = Commands.idle(22), Commands.idle(22)
     parser.fill(fast, rows, agents, actions, {})
     for row, agent, action in zip(rows, agents, actions, strict=True):
         parser._fill_dict(slow, row, agent, action, {})
-    for name in ("walk", "kick_power", "kick_dir", "beam_request", "beam"):
-        assert getattr(fast, name).tobytes() == getattr(slow, name).tobytes(), name
-    assert fast.say == slow.say
+    _same_commands(fast, slow)
 
 
 @pytest.mark.parametrize("keys", [("walk",), ("walk", "kick"), ("walk", "kick", "say"),
@@ -27,11 +41,7 @@ def test_fast_path_writes_what_the_per_agent_path_writes(keys, rows):
     env = teamenv.parallel_env(team_size=11)
     env.reset(seed=0)
     rng = np.random.default_rng(len(keys))
-    agents = list(env.agents)
-    if rows == "right":
-        agents = agents[11:]
-    elif rows == "shuffled":
-        agents = [agents[k] for k in rng.permutation(22)]
+    agents = _agents(env, rows, rng)
     row_of = [env._row[a] for a in agents]
     for _ in range(20):
         actions = []
@@ -79,8 +89,7 @@ def _box_both(parser, rows, agents, actions, monkeypatch):
     with monkeypatch.context() as m:  # the NumPy path: the kernel declines every batch
         m.setattr(actions_module, "_box_kernel", lambda: lambda *args: False)
         parser.fill(slow, rows, agents, actions, {})
-    for name in ("walk", "kick_power", "kick_dir", "beam_request", "beam"):
-        assert getattr(fast, name).tobytes() == getattr(slow, name).tobytes(), name
+    _same_commands(fast, slow)
 
 
 @pytest.mark.parametrize("dtype", [np.float64, np.float32, np.float16, np.longdouble, np.int64,
@@ -90,11 +99,7 @@ def test_compiled_box_path_writes_what_the_numpy_path_writes(dtype, rows, monkey
     env = teamenv.parallel_env(team_size=11, action_format="box")
     env.reset(seed=0)
     rng = np.random.default_rng(7)
-    agents = list(env.agents)
-    if rows == "right":
-        agents = agents[11:]
-    elif rows == "shuffled":
-        agents = [agents[k] for k in rng.permutation(22)]
+    agents = _agents(env, rows, rng)
     row_of = [env._row[a] for a in agents]
     edges = np.array([-1.0, -0.0, 0.0, 1.0, -1.0 - 5e-7, 1.0 + 5e-7, 1e-300, -1e-300])
     for _ in range(20):

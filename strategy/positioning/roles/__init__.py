@@ -19,6 +19,6 @@ from strategy.positioning.roles.voting import (
 
 __all__ = [
     "Assignment", "RoleAssignmentError", "RoleVoter", "VotingError", "assign_roles",
-    "assign_roles_all", "distance_matrix", "is_permutation", "solve_greedy", "solve_mmd_msd2", "tally_votes",
-    "vote_matrix",
+    "assign_roles_all", "distance_matrix", "is_permutation", "solve_greedy", "solve_mmd_msd2",
+    "tally_votes", "vote_matrix",
 ]

@@ -218,8 +218,8 @@ def assign_roles_all(
     problem gets the assignment ``assign_roles`` gives it alone, bit for bit: the distances
     are computed for all problems in one pass (as ``cdist`` does: ``sqrt(dx*dx + dy*dy)``),
     the exact search runs per problem."""
-    p = _stacked(players, "players")
-    q = _stacked(positions, "positions")
+    p = _points(players, "players", stacked=True)
+    q = _points(positions, "positions", stacked=True)
     if q.shape != p.shape:
         raise RoleAssignmentError(
             f"assign_roles_all: positions has shape {q.shape}, expected {p.shape} (one per "
@@ -341,24 +341,15 @@ def _assign_one(dist: NDArray[np.float64], avail: NDArray[np.bool_] | None, solv
     return Assignment(position_of, max(d.tolist()), float(pm.matmul(d, d)))
 
 
-def _points(value: ArrayLike, name: str) -> NDArray[np.float64]:
+def _points(value: ArrayLike, name: str, stacked: bool = False) -> NDArray[np.float64]:
+    """``value`` as float64 points, (N, 2) or, ``stacked``, (A, N, 2) metres."""
     try:
         a = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError):
         raise RoleAssignmentError(f"{name} must be numbers, got {value!r}") from None
-    if a.ndim != 2 or a.shape[1] != 2:
-        raise RoleAssignmentError(f"{name} must have shape (N, 2) in metres, got shape {a.shape}")
-    return a
-
-
-def _stacked(value: ArrayLike, name: str) -> NDArray[np.float64]:
-    try:
-        a = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise RoleAssignmentError(f"{name} must be numbers, got {value!r}") from None
-    if a.ndim != 3 or a.shape[2] != 2:
-        raise RoleAssignmentError(
-            f"{name} must have shape (A, N, 2) in metres, got shape {a.shape}")
+    ndim, shape = (3, "(A, N, 2)") if stacked else (2, "(N, 2)")
+    if a.ndim != ndim or a.shape[-1] != 2:
+        raise RoleAssignmentError(f"{name} must have shape {shape} in metres, got shape {a.shape}")
     return a
 
 
