@@ -98,7 +98,7 @@ def record() -> dict[str, list[str]]:
 def alternates(recorded: dict[str, list[str]],
                now: dict[str, list[str]]) -> dict[str, dict[str, str]]:
     """run -> cycle -> this machine's digest, for the cycles where it differs from the record."""
-    out = {name: {str(k): a for k, (a, b) in enumerate(zip(now[name], recorded[name]))
+    out = {name: {str(k): a for k, (a, b) in enumerate(zip(now[name], recorded[name], strict=True))
                   if a != b} for name in now}
     return {name: cycles for name, cycles in out.items() if cycles}
 
