@@ -44,14 +44,15 @@ class EnvRun:
     """One timed configuration of the env: random actions drawn before timing, warmed up;
     each call times ``steps`` steps and keeps the best rate (and that run's env.timings()).
     ``read``: every step also reads every agent's observation and info (the env builds the
-    per-agent dicts of both on first access)."""
+    per-agent dicts of both on first access). ``every_key``: Dict actions also carry ``beam``
+    and ``beam_request`` (0), as the action space's samples do."""
 
     def __init__(self, steps: int, team_size: int, action_format: str, seed: int = 0,
                  say: bool = False, read: bool = False, name: str | None = None,
-                 **obs: str) -> None:
+                 every_key: bool = False, **obs: str) -> None:
         self.steps, self.read = steps, read
         self.name = name or (f"{action_format.capitalize()}" + (" + say" if say else "")
-                             + (", read" if read else ""))
+                             + (", read" if read else "") + (", every key" if every_key else ""))
         env = self.env = teamenv.parallel_env(team_size=team_size, action_format=action_format,
                                               rules={"half_time_s": 1e6}, **obs)
         env.reset(seed=seed)
@@ -71,6 +72,10 @@ class EnvRun:
                         "kick": np.array([rng.random() * (rng.random() < 0.1), 0], np.float32)}
                     if say:
                         acts[a]["say"] = random_say(rng, profile)
+                    if every_key:
+                        acts[a]["beam"] = rng.uniform(env.parser.beam_low,
+                                                      env.parser.beam_high).astype(np.float32)
+                        acts[a]["beam_request"] = 0
                 pool.append(acts)
         self.k = 0
         self._run(100)  # warm-up
@@ -289,6 +294,7 @@ def main() -> None:
     runs = {"say": EnvRun(s, n, "dict", say=True, **obs),
             "read": EnvRun(s, n, "dict", say=True, read=True, **obs),
             "dict": EnvRun(s, n, "dict", **obs),
+            "every": EnvRun(s, n, "dict", every_key=True, **obs),
             "box": EnvRun(s, n, "box", **obs)}
     for _ in range(r):
         reference_run()
@@ -304,6 +310,7 @@ def main() -> None:
         (f"env, {2 * n} agents, random Dict actions + say", env_say, reference),
         ("  same, reading every observation and info", env_read, reference),
         (f"env, {2 * n} agents, random Dict actions, silent", env_dict, reference),
+        ("  same, every key (beam, beam_request too)", runs["every"].best, reference),
         (f"env, {2 * n} agents, random Box actions", env_box, reference),
     ]
     try:

@@ -27,7 +27,8 @@ from teamenv.field import FieldSpec
 from teamenv.sim.simulation import Commands
 
 DICT_KEYS = ("walk", "kick", "beam", "beam_request", "say")
-_FAST_KEYS = frozenset({"walk", "kick", "say"})
+_FAST_KEYS = frozenset(DICT_KEYS)
+_FLAG_TYPES = frozenset({bool, int, np.bool_})  # beam_request values the fast path reads
 _DICT = {dict}
 _STR = {str}
 _SILENCE_OR_STR = frozenset({str, type(None)})
@@ -50,6 +51,7 @@ class ActionParser:
         # Tolerant bounds of the fast path (NaN and inf fail them too).
         self._walk_lo, self._walk_hi = self.walk_low - 1e-6, self.walk_high + 1e-6
         self._kick_lo, self._kick_hi = self.kick_low - 1e-6, self.kick_high + 1e-6
+        self._beam_lo, self._beam_hi = self.beam_low - 1e-6, self.beam_high + 1e-6
         self.channel = channel
         profile = getattr(channel, "profile", None)
         self._all_legal = profile.all_legal if hasattr(profile, "all_legal") else (
@@ -71,7 +73,7 @@ class ActionParser:
                 self._fill_dict(cmd, row, agent, action, dropped)
 
     def _fill_dict_fast(self, cmd: Commands, rows: list[int], actions: list[Any]) -> bool:
-        """Vectorized path for the common case (only valid walk/kick/say keys). Returns False,
+        """Vectorized path for the common case (valid values of known keys). Returns False,
         touching nothing, when anything is unusual; the per-agent path then names the fault."""
         if set(map(type, actions)) != _DICT:
             return False
@@ -81,9 +83,12 @@ class ActionParser:
             # Same size as the first dict and holding each of its keys = the same keys.
             if not keys <= _FAST_KEYS or len(set(map(len, actions))) != 1:
                 raise KeyError
-            walk_rows = kick_rows = rows
+            walk_rows = kick_rows = beam_rows = flag_rows = rows
             walks = [action["walk"] for action in actions] if "walk" in keys else []
             kicks = [action["kick"] for action in actions] if "kick" in keys else []
+            beams = [action["beam"] for action in actions] if "beam" in keys else []
+            flags = [action["beam_request"] for action in actions] \
+                if "beam_request" in keys else []
             texts = [action["say"] for action in actions] if "say" in keys else []
         except KeyError:
             texts = None
@@ -100,6 +105,7 @@ class ActionParser:
                 return False  # the per-agent path names the fault (or takes a str subclass)
         else:
             walk_rows, walks, kick_rows, kicks, says = [], [], [], [], []
+            beam_rows, beams, flag_rows, flags = [], [], [], []
             fast_keys = _FAST_KEYS
             for row, action in zip(rows, actions, strict=True):
                 if not fast_keys.issuperset(action):
@@ -110,6 +116,12 @@ class ActionParser:
                 if "kick" in action:
                     kick_rows.append(row)
                     kicks.append(action["kick"])
+                if "beam" in action:
+                    beam_rows.append(row)
+                    beams.append(action["beam"])
+                if "beam_request" in action:
+                    flag_rows.append(row)
+                    flags.append(action["beam_request"])
                 text = action.get("say")
                 if type(text) is str:
                     if text:
@@ -120,18 +132,25 @@ class ActionParser:
         # part or reshape (3, 1)); the per-agent path names any fault.
         walk = _real_rows(walks, 3)
         kick = _real_rows(kicks, 2)
-        if walk is None or kick is None:
+        beam = _real_rows(beams, 3)
+        if walk is None or kick is None or beam is None:
             return False
         # In range (with the 1e-6 tolerance) also means finite: NaN fails both comparisons.
         if walks and not ((walk >= self._walk_lo) & (walk <= self._walk_hi)).all():
             return False
         if kicks and not ((kick >= self._kick_lo) & (kick <= self._kick_hi)).all():
             return False
+        if beams and not ((beam >= self._beam_lo) & (beam <= self._beam_hi)).all():
+            return False
+        # beam_request: bool, numpy bool or the int 0 or 1 (other forms: the per-agent path)
+        if flags and not (set(map(type, flags)) <= _FLAG_TYPES
+                          and all(flag in (0, 1) for flag in flags)):
+            return False
         # Legal non-empty str texts, all in one match (False for a non-str: path below names it).
         if says and not self._all_legal([text for _, text in says]):
             return False
         if walk_rows is rows and type(rows) is list and _is_range(rows):  # rows 0..k-1: a slice
-            walk_rows = kick_rows = slice(0, len(rows))
+            walk_rows = kick_rows = beam_rows = flag_rows = slice(0, len(rows))
             if len(says) == len(rows):
                 cmd.say[:len(rows)] = [text for _, text in says]
                 says = []
@@ -140,6 +159,10 @@ class ActionParser:
         if kicks:
             cmd.kick_power[kick_rows] = kick[:, 0]
             cmd.kick_dir[kick_rows] = kick[:, 1]
+        if beams:
+            cmd.beam[beam_rows] = beam
+        if flags:
+            cmd.beam_request[flag_rows] = [bool(flag) for flag in flags]
         say = cmd.say
         for row, text in says:
             say[row] = text

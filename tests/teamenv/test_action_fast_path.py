@@ -28,14 +28,20 @@ def _agents(env, rows, rng):
 
 def _both(parser, rows, agents, actions):
     fast, slow = Commands.idle(22), Commands.idle(22)
+    assert parser._fill_dict_fast(Commands.idle(22), rows, actions)  # valid: the fast path
     parser.fill(fast, rows, agents, actions, {})
     for row, agent, action in zip(rows, agents, actions, strict=True):
         parser._fill_dict(slow, row, agent, action, {})
     _same_commands(fast, slow)
 
 
+FLAGS = (True, False, 0, 1, np.True_, np.False_)
+
+
 @pytest.mark.parametrize("keys", [("walk",), ("walk", "kick"), ("walk", "kick", "say"),
-                                  ("say",), ("kick", "say"), ()])
+                                  ("say",), ("kick", "say"), (),
+                                  ("walk", "kick", "beam", "beam_request", "say"),
+                                  ("beam",), ("beam_request", "say")])
 @pytest.mark.parametrize("rows", ["all", "right", "shuffled"])
 def test_fast_path_writes_what_the_per_agent_path_writes(keys, rows):
     env = teamenv.parallel_env(team_size=11)
@@ -52,6 +58,11 @@ def test_fast_path_writes_what_the_per_agent_path_writes(keys, rows):
                     np.float32 if k % 2 else np.float64)
             if "kick" in keys:
                 action["kick"] = [float(rng.random()), float(rng.uniform(-3, 3))]
+            if "beam" in keys:
+                action["beam"] = rng.uniform(env.parser.beam_low, env.parser.beam_high).astype(
+                    np.float32 if k % 3 else np.float64)
+            if "beam_request" in keys:
+                action["beam_request"] = FLAGS[int(rng.integers(len(FLAGS)))]
             if "say" in keys:
                 action["say"] = "" if rng.random() < 0.3 else f"m{k}"
             actions.append(action)
@@ -74,6 +85,12 @@ def test_unusual_input_gets_the_per_agent_errors():
         ({"walk": np.zeros(3), "say": "x" * 21}, MessageError, "too_long"),
         ({"walk": np.zeros(3), "say": 7}, MessageError, "must be a str"),
         ({"walk": np.zeros(3), "jump": 1}, ActionError, "unknown action key"),
+        ({"walk": np.zeros(3), "beam": np.array([0.0, np.inf, 0.0])}, ActionError, "finite"),
+        ({"walk": np.zeros(3), "beam": np.array([0.0, 99.0, 0.0])}, ActionError, "out of range"),
+        ({"walk": np.zeros(3), "beam": "0 0 0"}, ActionError, "real numbers"),
+        ({"walk": np.zeros(3), "beam_request": 2}, ActionError, "must be 0 or 1"),
+        ({"walk": np.zeros(3), "beam_request": "1"}, ActionError, "must be 0 or 1"),
+        ({"walk": np.zeros(3), "beam_request": 1.0}, ActionError, "must be 0 or 1"),
     ]:
         actions = {a: dict(ok) for a in env.agents}
         actions["right_2"] = bad
