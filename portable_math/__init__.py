@@ -25,7 +25,7 @@ but NumPy (and numba, for its loops, on the first call).
 from __future__ import annotations
 
 import math
-from functools import lru_cache, partial, wraps
+from functools import cache, partial, wraps
 from typing import Any
 
 import numpy as np
@@ -329,13 +329,13 @@ def matmul(a: Any, b: Any) -> Any:
 
 
 # -- the public functions: the C library element by element -------------------------------
-@lru_cache(maxsize=1)
-def _loops() -> Any:
-    """The compiled loops, imported on the first call: numba takes a few tenths of a second
-    to import."""
+@cache
+def _loop(name: str) -> Any:
+    """The compiled loop of ``math.<name>``, imported on the first call: numba takes a few
+    tenths of a second to import."""
     from portable_math import c_library_loops
 
-    return c_library_loops
+    return c_library_loops.function(name)
 
 
 def _one_by_one(function: Any, vectorised: Any, columns: list[np.ndarray]) -> np.ndarray:
@@ -363,9 +363,9 @@ def _one_by_one(function: Any, vectorised: Any, columns: list[np.ndarray]) -> np
 
 def _elementwise(function: Any, vectorised: Any, name: str, loop: str) -> Any:
     """``function`` (a ``math`` function of one or two floats) on every element of its
-    broadcast arguments, through the compiled ``c_library_loops.<loop>`` (the same C calls);
-    the elements the loop leaves (NaN, or where ``function`` raises) one by one with
-    ``function``, and where it raises ``vectorised`` (C99's value)."""
+    broadcast arguments, through the compiled loop of ``math.<loop>`` (``c_library_loops``:
+    the same C calls); the elements the loop leaves (NaN, or where ``function`` raises) one
+    by one with ``function``, and where it raises ``vectorised`` (C99's value)."""
 
     @wraps(vectorised)
     def portable(*args: Any) -> Any:
@@ -377,7 +377,7 @@ def _elementwise(function: Any, vectorised: Any, name: str, loop: str) -> Any:
         columns = [np.ascontiguousarray(a).ravel() for a in arrays]
         out = np.empty(columns[0].size)
         left = np.empty(columns[0].size, dtype=bool)
-        if getattr(_loops(), loop)(*columns, out, left):
+        if _loop(loop)(*columns, out, left):
             where = np.flatnonzero(left)
             out[where] = _one_by_one(function, vectorised, [c[where] for c in columns])
         return _out(out.reshape(shape))

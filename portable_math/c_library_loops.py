@@ -9,7 +9,7 @@ NaN result of non-NaN arguments: ``log(0)``, ``exp(1000)``, ``asin(2)``, ``pow(0
 where an argument is NaN (``math`` hands some NaNs back as they came, payload and sign; the C
 library returns its own).
 
-The base of ``exp2`` (``pow(2, x)``) is an argument, not a constant: with a constant base the
+The base of ``exp2`` (``pow(2, x)``) is an array, not a constant: with a constant base the
 compiler may turn ``pow(2, x)`` into the C library's ``exp2``, which rounds differently.
 Imported on first use: numba takes a few tenths of a second to import.
 """
@@ -35,128 +35,65 @@ def _raises2(result: float, x: float, y: float) -> bool:
         math.isinf(result) and math.isfinite(x) and math.isfinite(y))
 
 
-# One loop per function (numba caches a function on disk, not a closure over another).
+# The functions by number: one cached loop for all (numba caches a function on disk, not a
+# closure over another); the branch on ``which`` is the same for every element.
+EXP, EXPM1, TANH, LOG, LOG2, LOG10, ATAN, ASIN, ACOS = range(9)
+ATAN2, POW = range(2)
+
+
+@numba.njit(inline="always")
+def _unary(which: int, x: float) -> float:
+    if which == EXP:
+        return math.exp(x)
+    if which == EXPM1:
+        return math.expm1(x)
+    if which == TANH:
+        return math.tanh(x)
+    if which == LOG:
+        return math.log(x)
+    if which == LOG2:
+        return math.log2(x)
+    if which == LOG10:
+        return math.log10(x)
+    if which == ATAN:
+        return math.atan(x)
+    if which == ASIN:
+        return math.asin(x)
+    return math.acos(x)
+
+
 @numba.njit(cache=True)
-def exp(x: np.ndarray, out: np.ndarray, failed: np.ndarray) -> bool:
-    bad = False
+def unary(which: int, x: np.ndarray, out: np.ndarray, left: np.ndarray) -> bool:
+    """``out[i] = f(x[i])`` for the function numbered ``which``; ``left[i]``: the element is
+    the caller's (see the module doc). Returns whether any is."""
+    any_left = False
     for i in range(x.size):
-        out[i] = r = math.exp(x[i])
-        failed[i] = f = _raises(r, x[i])
-        bad |= f
-    return bad
+        out[i] = r = _unary(which, x[i])
+        left[i] = f = _raises(r, x[i])
+        any_left |= f
+    return any_left
 
 
 @numba.njit(cache=True)
-def expm1(x: np.ndarray, out: np.ndarray, failed: np.ndarray) -> bool:
-    bad = False
+def binary(which: int, x: np.ndarray, y: np.ndarray, out: np.ndarray,
+           left: np.ndarray) -> bool:
+    """``out[i] = f(x[i], y[i])`` (``atan2(x, y)`` or ``pow(x, y)``); as ``unary``."""
+    any_left = False
     for i in range(x.size):
-        out[i] = r = math.expm1(x[i])
-        failed[i] = f = _raises(r, x[i])
-        bad |= f
-    return bad
+        r = math.atan2(x[i], y[i]) if which == ATAN2 else math.pow(x[i], y[i])
+        out[i] = r
+        left[i] = f = _raises2(r, x[i], y[i])
+        any_left |= f
+    return any_left
 
 
-@numba.njit(cache=True)
-def tanh(x: np.ndarray, out: np.ndarray, failed: np.ndarray) -> bool:
-    bad = False
-    for i in range(x.size):
-        out[i] = r = math.tanh(x[i])
-        failed[i] = f = _raises(r, x[i])
-        bad |= f
-    return bad
-
-
-@numba.njit(cache=True)
-def log(x: np.ndarray, out: np.ndarray, failed: np.ndarray) -> bool:
-    bad = False
-    for i in range(x.size):
-        out[i] = r = math.log(x[i])
-        failed[i] = f = _raises(r, x[i])
-        bad |= f
-    return bad
-
-
-@numba.njit(cache=True)
-def log2(x: np.ndarray, out: np.ndarray, failed: np.ndarray) -> bool:
-    bad = False
-    for i in range(x.size):
-        out[i] = r = math.log2(x[i])
-        failed[i] = f = _raises(r, x[i])
-        bad |= f
-    return bad
-
-
-@numba.njit(cache=True)
-def log10(x: np.ndarray, out: np.ndarray, failed: np.ndarray) -> bool:
-    bad = False
-    for i in range(x.size):
-        out[i] = r = math.log10(x[i])
-        failed[i] = f = _raises(r, x[i])
-        bad |= f
-    return bad
-
-
-@numba.njit(cache=True)
-def atan(x: np.ndarray, out: np.ndarray, failed: np.ndarray) -> bool:
-    bad = False
-    for i in range(x.size):
-        out[i] = r = math.atan(x[i])
-        failed[i] = f = _raises(r, x[i])
-        bad |= f
-    return bad
-
-
-@numba.njit(cache=True)
-def asin(x: np.ndarray, out: np.ndarray, failed: np.ndarray) -> bool:
-    bad = False
-    for i in range(x.size):
-        out[i] = r = math.asin(x[i])
-        failed[i] = f = _raises(r, x[i])
-        bad |= f
-    return bad
-
-
-@numba.njit(cache=True)
-def acos(x: np.ndarray, out: np.ndarray, failed: np.ndarray) -> bool:
-    bad = False
-    for i in range(x.size):
-        out[i] = r = math.acos(x[i])
-        failed[i] = f = _raises(r, x[i])
-        bad |= f
-    return bad
-
-
-@numba.njit(cache=True)
-def atan2(y: np.ndarray, x: np.ndarray, out: np.ndarray, failed: np.ndarray) -> bool:
-    bad = False
-    for i in range(y.size):
-        out[i] = r = math.atan2(y[i], x[i])
-        failed[i] = f = _raises2(r, y[i], x[i])
-        bad |= f
-    return bad
-
-
-@numba.njit(cache=True)
-def pow(x: np.ndarray, y: np.ndarray, out: np.ndarray, failed: np.ndarray) -> bool:  # noqa: A001
-    bad = False
-    for i in range(x.size):
-        out[i] = r = math.pow(x[i], y[i])
-        failed[i] = f = _raises2(r, x[i], y[i])
-        bad |= f
-    return bad
-
-
-@numba.njit(cache=True)
-def pow_of(base: float, y: np.ndarray, out: np.ndarray, failed: np.ndarray) -> bool:
-    """``pow(base, y)`` element by element (``exp2`` with ``base`` 2.0, given at run time)."""
-    bad = False
-    for i in range(y.size):
-        out[i] = r = math.pow(base, y[i])
-        failed[i] = f = _raises2(r, base, y[i])
-        bad |= f
-    return bad
-
-
-def pow2(y: np.ndarray, out: np.ndarray, failed: np.ndarray) -> bool:
-    """``exp2`` as ``pow(2, y)``: the base passed at run time (see the module doc)."""
-    return pow_of(2.0, y, out, failed)
+def function(name: str):
+    """The loop of ``math.<name>`` (``pow2``: ``pow(2, y)``): ``loop(*columns, out, left)``."""
+    if name == "pow2":
+        # the base is an array, not a constant: see the module doc
+        return lambda y, out, left: binary(POW, np.full(y.size, 2.0), y, out, left)
+    if name in ("atan2", "pow"):
+        which = ATAN2 if name == "atan2" else POW
+        return lambda x, y, out, left: binary(which, x, y, out, left)
+    which = globals()[name.upper()]
+    return lambda x, out, left: unary(which, x, out, left)

@@ -104,30 +104,26 @@ class ActionParser:
             else:
                 return False  # the per-agent path names the fault (or takes a str subclass)
         else:
-            walk_rows, walks, kick_rows, kicks, says = [], [], [], [], []
-            beam_rows, beams, flag_rows, flags = [], [], [], []
+            # key sets differ: each key's rows and values, agent by agent
+            columns: dict[str, tuple[list[int], list[Any]]] = {
+                key: ([], []) for key in ("walk", "kick", "beam", "beam_request")}
+            says = []
             fast_keys = _FAST_KEYS
             for row, action in zip(rows, actions, strict=True):
                 if not fast_keys.issuperset(action):
                     return False
-                if "walk" in action:
-                    walk_rows.append(row)
-                    walks.append(action["walk"])
-                if "kick" in action:
-                    kick_rows.append(row)
-                    kicks.append(action["kick"])
-                if "beam" in action:
-                    beam_rows.append(row)
-                    beams.append(action["beam"])
-                if "beam_request" in action:
-                    flag_rows.append(row)
-                    flags.append(action["beam_request"])
+                for key, (key_rows, values) in columns.items():
+                    if key in action:
+                        key_rows.append(row)
+                        values.append(action[key])
                 text = action.get("say")
                 if type(text) is str:
                     if text:
                         says.append((row, text))
                 elif text is not None:
                     return False  # not a str: the per-agent path names the fault
+            (walk_rows, walks), (kick_rows, kicks), (beam_rows, beams), (flag_rows, flags) = \
+                columns.values()
         # Real numbers of the exact shape only (numpy would parse text, drop an imaginary
         # part or reshape (3, 1)); the per-agent path names any fault.
         walk = _real_rows(walks, 3)
