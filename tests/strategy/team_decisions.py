@@ -12,7 +12,10 @@ cycles (36 of 3560), though every match plays the same there (the golden hashes 
 the differences are in actions the world does not take (kick requests of a robot that is
 already kicking, and the like). Their cause is not found yet, so both machines' digests of
 those cycles are kept (``ALTERNATE``: run -> cycle -> digest, written by ``--write-alternate``
-on the second machine); any other difference fails.
+on the second machine); any other difference fails. ``--explain`` prints every action value
+of the cycles where the running machine differs from the record (this machine's:
+``tests/data/full_team_decisions_alternate_actions.json``), to find the function that rounds
+differently by comparing the two machines value by value.
 """
 
 from __future__ import annotations
@@ -58,8 +61,9 @@ def _action_bytes(action: dict[str, Any]) -> bytes:
     return b"|".join(out)
 
 
-def cycle_digests(run: dict[str, Any]) -> list[str]:
-    """Per cycle, one digest of every ``full`` team's actions and chosen behaviours."""
+def _cycles(run: dict[str, Any]):
+    """Play ``run``; after each cycle yield each ``full`` team's actions and chosen behaviours
+    as ``[(agent, action or None, behaviour), ...]`` in the digest's order."""
     spec = dict(run)
     cycles, seed, half_time_s = spec.pop("cycles"), spec.pop("seed"), spec.pop("half_time_s")
     env = teamenv.parallel_env(rules=RulesConfig(half_time_s=half_time_s), **spec)
@@ -74,21 +78,48 @@ def cycle_digests(run: dict[str, Any]) -> list[str]:
             seen[side] = actions = act(observations)
             return actions
         team.act = recording
+    try:
+        for _ in range(cycles):
+            if env.episode_over:
+                break
+            seen.clear()
+            env.step({})
+            yield [(side, sorted(seen.get(side, {}).items()),
+                    [(agent, player.last_request.behaviour)
+                     for agent, player in sorted(team.players.items())])
+                   for side, team in teams.items()]
+    finally:
+        env.close()
+
+
+def cycle_digests(run: dict[str, Any]) -> list[str]:
+    """Per cycle, one digest of every ``full`` team's actions and chosen behaviours."""
     digests = []
-    for _ in range(cycles):
-        if env.episode_over:
-            break
-        seen.clear()
-        env.step({})
+    for sides in _cycles(run):
         h = hashlib.sha256()
-        for side, team in teams.items():
-            for agent, action in sorted(seen.get(side, {}).items()):
+        for _side, actions, behaviours in sides:
+            for agent, action in actions:
                 h.update(agent.encode() + _action_bytes(action))
-            for agent, player in sorted(team.players.items()):
-                h.update(f"{agent}:{player.last_request.behaviour};".encode())
+            for agent, behaviour in behaviours:
+                h.update(f"{agent}:{behaviour};".encode())
         digests.append(h.hexdigest()[:16])
-    env.close()
     return digests
+
+
+def cycle_actions(run: dict[str, Any], cycles: set[int]) -> dict[str, dict]:
+    """The actions (floats in hex: every bit) and behaviours of the cycles ``cycles``, to
+    compare two machines' decisions value by value where their digests differ."""
+    out = {}
+    for k, sides in enumerate(_cycles(run)):
+        if k in cycles:
+            out[str(k)] = {agent: {key: value if isinstance(value, str) else
+                                   [float(v).hex() for v in np.ravel(value)]
+                                   for key, value in sorted(action.items())}
+                           for _side, actions, _ in sides for agent, action in actions}
+            out[str(k)]["behaviours"] = [b for _s, _a, behaviours in sides for b in behaviours]
+        if k >= max(cycles):
+            break
+    return out
 
 
 def record() -> dict[str, list[str]]:
@@ -110,4 +141,9 @@ if __name__ == "__main__":
     if "--write-alternate" in sys.argv:
         ALTERNATE.write_text(json.dumps(
             alternates(json.loads(FIXTURE.read_text()), recorded), indent=1) + "\n")
-    print({name: len(d) for name, d in recorded.items()})
+    if "--explain" in sys.argv:  # where this machine differs from the record: every value
+        differing = alternates(json.loads(FIXTURE.read_text()), recorded)
+        print(json.dumps({name: cycle_actions(RUNS[name], set(map(int, cycles)))
+                          for name, cycles in differing.items()}, indent=1))
+    else:
+        print({name: len(d) for name, d in recorded.items()})
