@@ -7,8 +7,8 @@ Every element goes through the C library's scalar functions, the ones Python's `
 calls, which choose their code path by FMA/AVX2 support only (the same on every AVX2 machine),
 whatever the size of the array it is in: an agent's value is the same computed alone or in a
 team's batch. They are called from compiled loops (``c_library_loops``, numba), which give
-every element the bits ``math`` gives it, without a Python call per element (an array of 50
-takes ~2 µs instead of ~20).
+every element the bits ``math`` gives it, without a Python call per element (``exp`` of 400
+elements takes ~5.5 µs instead of ~33; of 50, ~3 instead of ~6).
 Where ``math`` raises instead of returning C99's special value (``log(0)``, ``exp(1000)``,
 ``asin(2)``, ``pow(0, -1)``), that element takes a vectorised path computed only with
 operations IEEE 754 rounds exactly — ``+ - * /``, ``sqrt``, ``floor``, ``ldexp``/``frexp``,
