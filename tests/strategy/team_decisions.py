@@ -8,9 +8,9 @@ the per-agent decision code before the array rewrite). ``test_team_decisions.py`
 same runs and compares cycle by cycle, so a difference names its run, cycle and side.
 
 The recording machine and an AMD EPYC without AVX-512 (2026-11-27) decide differently in a few
-cycles (36 of 3560), though every match plays the same there (the golden hashes hold on both):
-the differences are in actions the world does not take (kick requests of a robot that is
-already kicking, and the like). Their cause is not found yet, so both machines' digests of
+cycles (36 of 3560), though every golden match plays the same there (the golden hashes hold
+on both; the 5 v 5 run's match is one of them, so its 8 differing cycles leave no trace in the
+world's state). Their cause is not found yet, so both machines' digests of
 those cycles are kept (``ALTERNATE``: run -> cycle -> digest, written by ``--write-alternate``
 on the second machine); any other difference fails. ``--explain`` prints every action value
 of the cycles where the running machine differs from the record (this machine's:
