@@ -32,6 +32,7 @@ import argparse
 import importlib.util
 import json
 import math
+import signal
 import sys
 from pathlib import Path
 from typing import Any
@@ -52,6 +53,7 @@ STRATEGIES = (
 #: the per-match statistics the worlds should agree on within 25 %
 COMPARED = ("goals", "kicks", "ball_progress_m", "attacking_third_pct", "falls")
 WORLDS = {"teamenv": "t1_mj", "teamenv calibrated": "t1_league"}
+WORLD_NAMES = tuple(w.replace(" ", "_") for w in WORLDS) + ("league",)
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -84,12 +86,16 @@ def play(args: argparse.Namespace) -> None:
     teams = list(args.teams)
     for world, profile in WORLDS.items():
         name = world.replace(" ", "_")
+        if name not in args.worlds:
+            continue
         t = round_robin(name, teams, games_per_pairing=args.games, swap_sides=True,
                         seed=args.seed, options=env_options(args.seconds, args.team_size,
                                                             profile))
         print(f"== {world} ({profile}): {len(t.schedule())} matches", flush=True)
         run_tournament(t, out / f"{name}.sqlite", name=name, resume=True, jobs=args.jobs,
                        progress=not args.no_progress)
+    if "league" not in args.worlds:
+        return
     options = LeagueMatchOptions(team_size=args.team_size, game_s=args.seconds, server="local")
     print("== league (LocalServer)", flush=True)
     run_league_tournament("league", out / "league.sqlite", teams, options, games=args.games,
@@ -252,6 +258,12 @@ def _fmt(x: float) -> str:
     return "n/a" if x is None or (isinstance(x, float) and math.isnan(x)) else f"{x:+.2f}"
 
 
+def _terminate(signum: int, frame: object) -> None:
+    from teamenv.errors import Terminated
+
+    raise Terminated()
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", required=True, help="folder of the run's databases, replays "
@@ -269,6 +281,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--ray-address", default=None,
                         help="play the league matches as Ray tasks: local, auto or an address")
     parser.add_argument("--bootstrap", type=int, default=1000, help="bootstrap resamples")
+    parser.add_argument("--worlds", nargs="+", default=list(WORLD_NAMES), choices=WORLD_NAMES,
+                        help="which round robins to play (default all three; the analysis "
+                        "reads whatever is stored)")
     parser.add_argument("--analyse-only", action="store_true",
                         help="only the analysis of what is stored under --out")
     parser.add_argument("--figure", default=str(ROOT / "docs" / "fidelity_study.png"))
@@ -276,12 +291,21 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--no-progress", action="store_true")
     parser.add_argument("--note", default="", help="a paragraph for the page (what was run)")
     args = parser.parse_args(argv)
+    from teamenv.errors import Terminated
     from teamenv.seeds import EVALUATION_SEEDS
 
     if args.seed not in EVALUATION_SEEDS:
         parser.error(f"--seed {args.seed} is not in the evaluation range {EVALUATION_SEEDS}")
     if not args.analyse_only:
-        play(args)
+        # SIGTERM stops the run like Ctrl-C, so the worker pools shut down with it (what is
+        # stored stays stored and the next run resumes)
+        previous = signal.signal(signal.SIGTERM, _terminate)
+        try:
+            play(args)
+        except Terminated:
+            return 128 + signal.SIGTERM
+        finally:
+            signal.signal(signal.SIGTERM, previous)
     analyse(Path(args.out), args.bootstrap, 0, Path(args.figure) if args.figure else None,
             Path(args.page) if args.page else None, args.note)
     return 0
