@@ -2,9 +2,9 @@
 windows (``strategy.perception.filtering``) and of the heard reports
 (``strategy.perception.team_sightings``).
 
-DBSCAN's labels are exactly scikit-learn's ``DBSCAN``'s (``_exact_dbscan_labels``: the
-within-eps pairs, the core points and the clusters (connected components) with numpy; tested
-label for label against sklearn, which itself runs for non-integer weights).
+DBSCAN's labels are exactly scikit-learn's ``DBSCAN``'s (``_exact_dbscan_labels``: one
+compiled pass over each object's pairs, ``strategy.perception.dbscan``; tested label for label
+against sklearn, which itself runs for non-integer weights).
 
 The estimate of an object (``cluster_objects``):
 
@@ -30,9 +30,9 @@ The estimate of an object (``cluster_objects``):
   fitted velocity is noise of about this size, so a consumer can tell rolling from still.
 
 Cost: sklearn's ``DBSCAN.fit`` costs ~0.4-1.0 ms a call on 10-60 points, nearly all of it
-fixed Python overhead (input checks, a neighbours index, a per-point loop); the numpy labels
-(all-against-all within each object's window, the objects padded into one array) cost
-~0.1 ms for a whole team's windows. Clustering runs once per new sighting (not per cycle;
+fixed Python overhead (input checks, a neighbours index, a per-point loop); the compiled
+labels (all-against-all within each object's window) cost tens of microseconds for a whole
+team's windows, most of it the call itself. Clustering runs once per new sighting (not per cycle;
 and once when an object goes out of date), never for a window whose total weight is below
 ``min_samples`` (no core point is possible) or that holds a single point, and once - not
 once per object - for all the objects of a ``MultiObjectWindow`` (objects never share a
@@ -123,116 +123,12 @@ def _pair_table(size: int) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
 def _exact_dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float64],
                          eps: float, min_samples: int,
                          groups: NDArray[np.int64] | None = None) -> NDArray[np.int64]:
-    """sklearn's DBSCAN labels computed with numpy, for integer-valued weights.
+    """sklearn's DBSCAN labels for integer-valued weights, in one compiled pass over each
+    group's pairs (``strategy.perception.dbscan``, imported on first use: numba takes a few
+    tenths of a second to import)."""
+    from strategy.perception.dbscan import grouped_dbscan_labels
 
-    The same decisions as sklearn (``sklearn.cluster._dbscan_inner``): a point's
-    neighbourhood is every point whose squared distance, summed over the coordinates in
-    order (its ``euclidean`` reduced distance), is at most ``eps * eps``, itself included;
-    a core point has a neighbourhood weight of at least ``min_samples`` (integer weights:
-    the sum is exact in any order); clusters are the connected components of the core
-    points, numbered in the order of their first point; a non-core point within reach of
-    core points joins the lowest-numbered of their clusters (the first to reach it), else
-    it is noise. Within a group every pair of points is compared (groups are small: one
-    object's window), as one flat array of pairs (small arrays: no page faults)."""
-    pts = np.asarray(points, dtype=np.float64)
-    n = len(pts)
-    if n == 0:
-        return np.zeros(0, dtype=np.int64)
-    if pts.ndim == 1:
-        pts = pts[:, None]
-    order = None
-    if groups is None:
-        starts = np.zeros(1, dtype=np.intp)
-        counts = np.full(1, n, dtype=np.intp)
-    else:
-        g = np.asarray(groups)
-        if len(g) > 1 and not bool((g[1:] >= g[:-1]).all()):
-            order = np.argsort(g, kind="stable")
-            g = g[order]
-            pts = pts[order]
-        starts = _starts(g)
-        counts = np.diff(starts, append=n)
-    w = np.asarray(weights, dtype=np.float64)
-    if order is not None:
-        w = w[order]
-    a, b = _group_pairs(starts, counts)
-    near = _near(pts, a, b, eps)
-    if near.all():  # every group is a clique (the usual case): one cluster or all noise
-        dense = np.add.reduceat(w, starts) >= min_samples  # integer weights: exact sums
-        dense_groups = np.flatnonzero(dense)
-        number = _numbered(len(starts), dense_groups,
-                           None if order is None else order[starts[dense_groups]])
-        return _unsorted(np.repeat(number, counts), order)
-    a, b = a[near], b[near]
-    if min_samples <= 1:  # every weight is at least 1: every point is a core point
-        core = np.ones(n, dtype=bool)
-    elif bool((w == 1.0).all()):
-        core = 1 + np.bincount(a, minlength=n) + np.bincount(b, minlength=n) >= min_samples
-    else:
-        core = w + np.bincount(a, w[b], n) + np.bincount(b, w[a], n) >= min_samples
-    # components of the core points over the core-core pairs (a non-core point is a
-    # component of its own), each named by its first (smallest) point, as sklearn numbers
-    # its clusters
-    big = n
-    linked = core[a] & core[b]
-    parent = _first_of_components(n, a[linked], b[linked])
-    root = np.where(core, parent, big)
-    # a border point: the first cluster among its core neighbours (clusters are numbered
-    # in the order of their first point, so the smallest root)
-    label_root = root.copy()
-    to_a = core[b] & ~core[a]
-    np.minimum.at(label_root, a[to_a], root[b[to_a]])
-    to_b = core[a] & ~core[b]
-    np.minimum.at(label_root, b[to_b], root[a[to_b]])
-    labels = np.full(n, -1, dtype=np.int64)
-    member = label_root < big
-    if member.any():
-        roots = np.flatnonzero(root == np.arange(n))  # (sorted) positions of first points
-        number = _numbered(n, roots, None if order is None else order[roots])
-        labels[member] = number[label_root[member]]
-    return _unsorted(labels, order)
-
-
-def _first_of_components(n: int, a: NDArray[np.intp], b: NDArray[np.intp]
-                         ) -> NDArray[np.intp]:
-    """(n,) the smallest point of each point's connected component over the edges
-    ``a[i]``-``b[i]``: every point takes the smallest name among itself and its neighbours,
-    then its name's name (pointer jumping), until nothing changes. Windows are small and
-    their clusters a few hops wide, so this takes a few passes, far below the fixed cost of
-    a SciPy sparse graph (~0.3 ms)."""
-    name = np.arange(n)
-    if not len(a):
-        return name
-    while True:
-        lower = np.minimum(name[a], name[b])
-        new = name.copy()
-        np.minimum.at(new, a, lower)
-        np.minimum.at(new, b, lower)
-        new = new[new]
-        if np.array_equal(new, name):
-            return name
-        name = new
-
-
-def _numbered(size: int, which: NDArray[np.intp],
-              original_first: NDArray[np.intp] | None) -> NDArray[np.int64]:
-    """(size,) cluster numbers: -1, except 0, 1, ... at ``which`` (the clusters), numbered in
-    the order of their first point's index before sorting (``original_first``; None: the
-    points were not reordered), as sklearn numbers its clusters."""
-    number = np.full(size, -1, dtype=np.int64)
-    if original_first is not None:
-        which = which[np.argsort(original_first, kind="stable")]
-    number[which] = np.arange(len(which))
-    return number
-
-
-def _unsorted(labels: NDArray[np.int64], order: NDArray[np.intp] | None) -> NDArray[np.int64]:
-    """``labels`` of points sorted by ``order`` put back in the callers' point order."""
-    if order is None:
-        return labels
-    out = np.empty(len(labels), dtype=np.int64)
-    out[order] = labels
-    return out
+    return grouped_dbscan_labels(points, weights, eps, min_samples, groups)
 
 
 def _group_pairs(starts: NDArray[np.intp], counts: NDArray[np.intp]

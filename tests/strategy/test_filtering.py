@@ -460,26 +460,8 @@ def test_clustering_only_changed_objects_equals_clustering_all():
     assert (slow.estimate(t).rejected > 0).any() or (slow.estimate(t).outliers > 0).any()
 
 
-def test_numpy_components_are_the_connected_components():
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
-    from strategy.perception.clustering import _first_of_components
-
-    rng = np.random.default_rng(3)
-    for _ in range(300):
-        n = int(rng.integers(1, 40))
-        m = int(rng.integers(0, 2 * n))
-        a, b = rng.integers(0, n, m), rng.integers(0, n, m)
-        _, component = connected_components(coo_matrix((np.ones(m), (a, b)), shape=(n, n)),
-                                            directed=False)
-        first = np.full(component.max() + 1, n)
-        np.minimum.at(first, component, np.arange(n))
-        np.testing.assert_array_equal(_first_of_components(n, a, b), first[component])
-
-
-def test_numpy_dbscan_labels_like_sklearn_dbscan():
-    """The numpy DBSCAN gives sklearn's labels exactly: noise, border points reachable from
+def test_compiled_dbscan_labels_like_sklearn_dbscan():
+    """The compiled DBSCAN gives sklearn's labels exactly: noise, border points reachable from
     two clusters (the first cluster wins), points exactly eps apart, integer weights, and
     groups kept apart as by a third coordinate of 2 eps per group."""
     from sklearn.cluster import DBSCAN
@@ -515,6 +497,12 @@ def test_numpy_dbscan_labels_like_sklearn_dbscan():
             np.column_stack([pts, groups * 1.0])).labels_
         np.testing.assert_array_equal(_dbscan_labels(pts, np.ones(n), 0.5, min_samples,
                                                      groups), expected)
+    # points of one or three coordinates, and no points
+    for shape in ((30,), (30, 1), (30, 3)):
+        pts = np.round(rng.normal(size=shape) * 2.0) / 2.0
+        expected = DBSCAN(eps=0.5, min_samples=3).fit(pts.reshape(30, -1)).labels_
+        np.testing.assert_array_equal(_exact_dbscan_labels(pts, np.ones(30), 0.5, 3), expected)
+    assert _exact_dbscan_labels(np.zeros((0, 2)), np.zeros(0), 0.5, 3).shape == (0,)
     # non-integer weights go to sklearn itself
     pts = rng.normal(size=(20, 2))
     w = rng.uniform(0.5, 2.0, 20)
