@@ -109,7 +109,25 @@ class BallRoll:
     def rest_point(self, ball: NDArray[np.float64],
                    velocity: NDArray[np.float64]) -> NDArray[np.float64]:
         """Where the ball stops (on a free pitch)."""
-        speed = math.hypot(velocity[0], velocity[1])
-        if speed < 1e-6:
-            return np.array(ball, dtype=np.float64)
-        return ball + velocity / speed * float(self.travel(speed, self.stop_time(speed)))
+        return self.rest_points(np.asarray(ball)[None], np.asarray(velocity)[None])[0]
+
+    def rest_points(self, balls: NDArray[np.float64],
+                    velocities: NDArray[np.float64]) -> NDArray[np.float64]:
+        """(A, 2) where each of the balls (A, 2) rolling with ``velocities`` (A, 2) stops, in
+        one pass (each row the bits ``travel`` gives it alone: elementwise IEEE operations and
+        ``portable_math``)."""
+        balls = np.array(balls, dtype=np.float64)
+        velocities = np.asarray(velocities, dtype=np.float64)
+        speeds = [math.hypot(vx, vy) for vx, vy in velocities.tolist()]
+        rolling = [k for k, speed in enumerate(speeds) if speed >= 1e-6]
+        if rolling:
+            speed = np.array([speeds[k] for k in rolling])
+            t = np.array([self.stop_time(speeds[k]) for k in rolling])
+            a, c = self.linear_drag, self.rolling_decel
+            if a > 1e-9:
+                v_inf = c / a
+                travel = (speed + v_inf) * (1.0 - pm.exp(-a * t)) / a - v_inf * t
+            else:
+                travel = speed * t - 0.5 * c * t * t
+            balls[rolling] += velocities[rolling] / speed[:, None] * travel[:, None]
+        return balls

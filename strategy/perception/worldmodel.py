@@ -235,13 +235,11 @@ class WorldModel:
 
     def we_control_ball(self) -> bool:
         """Our closest upright player is nearer the ball than theirs (or the ball is in their
-        half and nobody of theirs is close)."""
-        ours = self.teammates_present & ~self.teammates_fallen
-        theirs = self.opponents_present & ~self.opponents_fallen
-        d_ours = np.hypot(*(self.teammates[ours] - self.ball).T).min() if ours.any() else np.inf
-        d_theirs = np.hypot(*(self.opponents[theirs] - self.ball).T).min() if theirs.any() \
-            else np.inf
-        return bool(d_ours < d_theirs - 0.3 or (self.ball[0] > 0 and d_theirs > 3.0))
+        half and nobody of theirs is close); ``ball_controls`` of this model alone."""
+        control = self.__dict__.get("_control")
+        if control is None:  # computed once per world model (frozen: bypass __setattr__)
+            control = self.__dict__["_control"] = ball_controls([self])[0]
+        return control
 
     def ball_rest(self) -> NDArray[np.float64]:
         """Where the ball will stop rolling (on a free pitch). Do not modify the result."""
@@ -266,6 +264,44 @@ class WorldModel:
         first = np.where(ok.any(axis=1), ok.argmax(axis=1), len(times) - 1)
         when = np.maximum(reach[np.arange(len(positions)), first], times[first])
         return when, path[first]
+
+
+def ball_controls(wms: Sequence[WorldModel]) -> list[bool]:
+    """``we_control_ball`` of each of ``wms`` (one team's: equal numbers of players) in one
+    pass over their stacked arrays, each from its own belief."""
+    balls = np.array([wm.ball for wm in wms])
+    ours = _nearest(np.array([wm.teammates for wm in wms]), balls,
+                    np.array([wm.teammates_present & ~wm.teammates_fallen for wm in wms]))
+    theirs = _nearest(np.array([wm.opponents for wm in wms]), balls,
+                      np.array([wm.opponents_present & ~wm.opponents_fallen for wm in wms]))
+    return ((ours < theirs - 0.3) | ((balls[:, 0] > 0) & (theirs > 3.0))).tolist()
+
+
+def _nearest(players: NDArray[np.float64], balls: NDArray[np.float64],
+             upright: NDArray[np.bool_]) -> NDArray[np.float64]:
+    """(A,) each row's distance from its ball (A, 2) to its nearest upright player (A, N, 2);
+    inf for none."""
+    d = np.hypot(players[..., 0] - balls[:, 0, None], players[..., 1] - balls[:, 1, None])
+    return np.where(upright, d, np.inf).min(axis=1, initial=np.inf)
+
+
+def prime_team_facts(wms: Sequence[WorldModel]) -> None:
+    """Fill each of ``wms``'s ``we_control_ball()`` and ``ball_rest()`` now, in one pass over
+    the team (agents with beliefs of their own: vision mode); the same values as one by
+    one. Models that already hold them are left alone."""
+    by_roll: dict[int, list[WorldModel]] = {}
+    for wm in wms:
+        if "_ball_rest" not in wm.__dict__:
+            by_roll.setdefault(id(wm.roll), []).append(wm)
+    for todo in by_roll.values():
+        rests = todo[0].roll.rest_points(np.array([wm.ball for wm in todo]),
+                                         np.array([wm.ball_velocity for wm in todo]))
+        for wm, rest in zip(todo, rests, strict=True):
+            wm.__dict__["_ball_rest"] = rest
+    todo = [wm for wm in wms if "_control" not in wm.__dict__]
+    if todo:
+        for wm, control in zip(todo, ball_controls(todo), strict=True):
+            wm.__dict__["_control"] = control
 
 
 def _rounded(values: NDArray[np.floating], r: float = BELIEF_RESOLUTION_M) -> NDArray[np.float64]:

@@ -18,7 +18,7 @@ from strategy.behaviours.motion import Hold, resolve_holds, search_ball
 from strategy.behaviours.skills import Skills
 from strategy.decision import FieldPlayerDecisionMaker, GoalieDecisionMaker
 from strategy.decision.setplays import Situation, situation, we_kick_off_next
-from strategy.perception.worldmodel import WorldModel, WorldView, shared
+from strategy.perception.worldmodel import WorldModel, WorldView, prime_team_facts, shared
 from strategy.positioning import PositioningAgent, PositioningDecision
 from strategy.positioning.formation.model import Formation
 from strategy.positioning.roles.voting import RoleVoters
@@ -162,6 +162,8 @@ def position_team(players: Sequence[Player], wms: Sequence[WorldModel]
     (``strategy.teams.talk``) says which role votes each agent heard, what it counts as its
     own vote and what it says this cycle.
     """
+    # beliefs of their own (vision mode): the team's ball facts in one pass
+    prime_team_facts([wm for wm in wms if not wm.belief_key])
     looked_up: dict[tuple, tuple[Formation, WorldView]] = {}
     formations, views = [], []
     for player, wm in zip(players, wms, strict=True):

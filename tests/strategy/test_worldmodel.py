@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from strategy.perception.worldmodel import WorldModel, shared
+from strategy.geometry import BallRoll
+from strategy.perception.worldmodel import WorldModel, ball_controls, prime_team_facts, shared
 
 from .scenes import make_env, world
 
@@ -50,3 +51,40 @@ def test_shared_caches_none_results_too():
     for _ in range(3):
         assert shared(memo, "none", m, lambda: calls.append(1)) is None
     assert len(calls) == 1
+
+
+def test_who_controls_the_ball():
+    # our nearest upright player against theirs, with 0.3 m of margin; or the ball in their
+    # half with nobody of theirs within 3 m
+    assert world(position=(0.0, 0.0), ball=(-1.0, 0.0), opponents=[(-2.5, 0.0)]).we_control_ball()
+    assert not world(position=(0.0, 0.0), ball=(-1.0, 0.0),
+                     opponents=[(-2.2, 0.0)]).we_control_ball()
+    assert world(position=(-9.0, 0.0), ball=(1.0, 0.0), opponents=[(4.5, 0.0)]).we_control_ball()
+    assert not world(position=(-9.0, 0.0), ball=(1.0, 0.0),
+                     opponents=[(3.5, 0.0)]).we_control_ball()
+    alone = world(position=(0.0, 0.0), ball=(-1.0, 0.0), fallen_mates=[0], opponents=[(-5, 0)])
+    assert not alone.we_control_ball()  # our only player is down
+
+
+def test_team_facts_in_one_pass_equal_each_agents_own():
+    """``prime_team_facts`` (a vision team's agents, each with its own belief) gives every
+    model the control and rest point that model computes alone, bit for bit."""
+    rng = np.random.default_rng(4)
+    for roll in (BallRoll(), BallRoll(0.0, 0.5)):
+        for _ in range(60):
+            models = [world(position=tuple(rng.normal(size=2) * 5), me=0, ball=tuple(ball),
+                            ball_velocity=tuple(rng.normal(size=2) * rng.choice([0.0, 0.5, 4.0])),
+                            teammates=[tuple(p) for p in rng.normal(size=(3, 2)) * 8],
+                            opponents=[tuple(p) for p in rng.normal(size=(4, 2)) * 8],
+                            fallen_mates=[int(k) for k in np.flatnonzero(rng.random(4) < 0.3)])
+                      for ball in rng.normal(size=(5, 2)) * 6]
+            models = [WorldModel(**{**{k: v for k, v in m.__dict__.items()
+                                       if not k.startswith("_")}, "roll": roll})
+                      for m in models]
+            alone = [(m.we_control_ball(), m.ball_rest().tobytes()) for m in models]
+            fresh = [WorldModel(**{k: v for k, v in m.__dict__.items() if not k.startswith("_")})
+                     for m in models]
+            prime_team_facts(fresh)
+            assert [(m.__dict__["_control"], m.__dict__["_ball_rest"].tobytes())
+                    for m in fresh] == alone
+            assert ball_controls(fresh) == [c for c, _ in alone]
