@@ -166,6 +166,15 @@ def _team_stats(db: str, name: str) -> dict[int, dict[str, dict]]:
         return store.team_stats(tid)
 
 
+def _restricted(records: Sequence[Any], team_stats: dict[int, dict[str, dict]],
+                pairings: set[tuple[str, str]]) -> tuple[list[Any], dict[int, dict[str, dict]]]:
+    """The matches of ``records`` (and their statistics) whose (left, right) is in
+    ``pairings``."""
+    kept = [r for r in records if (r.left_team, r.right_team) in pairings]
+    ids = {r.id for r in kept}
+    return kept, {k: v for k, v in team_stats.items() if k in ids}
+
+
 def league_falls(records: Sequence[Any], team_stats: dict[int, dict[str, dict]],
                  near_m: float = 1.0, early_s: float = 2.0) -> dict[str, float]:
     """One pass over the league matches' replays. Recounts each match's falls in
@@ -204,8 +213,9 @@ def league_falls(records: Sequence[Any], team_stats: dict[int, dict[str, dict]],
 
 def main(argv: Sequence[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--teamenv-db", required=True)
-    ap.add_argument("--teamenv-name", required=True)
+    ap.add_argument("--teamenv-db", default=None, help="the teamenv tournament (optional when "
+                    "--calibrated-db is given)")
+    ap.add_argument("--teamenv-name", default=None)
     ap.add_argument("--league-db", required=True)
     ap.add_argument("--league-name", required=True,
                     help="league tournament name; several, comma-separated, pool their matches")
@@ -215,17 +225,33 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--bootstrap", type=int, default=1000)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--json", default=None, help="write the result here")
+    ap.add_argument("--common-pairings", action="store_true",
+                    help="only the pairings (left team, right team) every world has played: a "
+                    "study still under way compared on what it has in common")
     args = ap.parse_args(argv)
-    worlds = {"teamenv": (args.teamenv_db, args.teamenv_name)}
+    worlds = {}
+    if args.teamenv_db:
+        worlds["teamenv"] = (args.teamenv_db, args.teamenv_name)
     if args.calibrated_db:
         worlds["teamenv calibrated"] = (args.calibrated_db,
                                         args.calibrated_name or args.teamenv_name)
+    if not worlds:
+        ap.error("give --teamenv-db or --calibrated-db (or both)")
     league = []
     league_stats: dict[int, dict[str, dict]] = {}
     for name in args.league_name.split(","):   # several league tournaments pool their matches
         recs = _records(args.league_db, name)
         league += recs
         league_stats |= _team_stats(args.league_db, name)
+    loaded = {world: (_records(db, name), _team_stats(db, name))
+              for world, (db, name) in worlds.items()}
+    if args.common_pairings:
+        common = set.intersection(*({(r.left_team, r.right_team) for r in recs}
+                                    for recs in [league] + [r for r, _ in loaded.values()]))
+        league, league_stats = _restricted(league, league_stats, common)
+        loaded = {world: _restricted(recs, stats, common)
+                  for world, (recs, stats) in loaded.items()}
+        print(f"pairings played in every world: {len(common)}")
     out: dict[str, Any] = {"league_matches": len(league), "agreement": {}, "stats": {},
                            "ranking": {}, "league_falls": league_falls(league, league_stats)}
     print("league falls:", {k: round(v, 3) for k, v in out["league_falls"].items()})
@@ -239,9 +265,8 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     league_sets = rankings(league, league_stats)
     out["ranking"]["league"] = {m: fn(recs) for m, (recs, fn) in league_sets.items() if recs}
-    for world, (db, name) in worlds.items():
-        records = _records(db, name)
-        sets = rankings(records, _team_stats(db, name))
+    for world, (records, world_team_stats) in loaded.items():
+        sets = rankings(records, world_team_stats)
         out["ranking"][world] = {m: fn(recs) for m, (recs, fn) in sets.items() if recs}
         for metric, (recs, _) in sets.items():
             league_recs = league_sets[metric][0]
@@ -261,8 +286,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             order = sorted(table, key=lambda t: -table[t])
             print(f"  {world:<20} by {metric:<13}: " + ", ".join(f"{t} {table[t]:+.2f}"
                                                                     for t in order))
-    for world, (db, name) in worlds.items():
-        out["stats"][world] = world_stats(_team_stats(db, name))
+    for world, (_, world_team_stats) in loaded.items():
+        out["stats"][world] = world_stats(world_team_stats)
     out["stats"]["league"] = world_stats(league_stats)
     keys = [k for k in next(iter(out["stats"].values()), {}) if k != "matches"]
     if keys:

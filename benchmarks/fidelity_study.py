@@ -34,6 +34,7 @@ import json
 import math
 import signal
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -105,15 +106,20 @@ def play(args: argparse.Namespace) -> None:
 
 
 def analyse(out: Path, bootstrap: int, seed: int, figure: Path | None,
-            page: Path | None, note: str = "") -> dict[str, Any]:
-    """The analysis of a stored run: results JSON (``out/results.json``), figure, page."""
+            page: Path | None, note: str = "", worlds: Sequence[str] = WORLD_NAMES,
+            common_pairings: bool = False) -> dict[str, Any]:
+    """The analysis of a stored run: results JSON (``out/results.json``), figure, page.
+    ``worlds``: the teamenv worlds to compare with the league (those stored);
+    ``common_pairings``: only the pairings every world has played (a run under way)."""
     fr = _ranking_module()
     results_path = out / "results.json"
-    argv = ["--teamenv-db", str(out / "teamenv.sqlite"), "--teamenv-name", "teamenv",
-            "--calibrated-db", str(out / "teamenv_calibrated.sqlite"),
-            "--calibrated-name", "teamenv_calibrated",
-            "--league-db", str(out / "league.sqlite"), "--league-name", "league",
+    argv = ["--league-db", str(out / "league.sqlite"), "--league-name", "league",
             "--bootstrap", str(bootstrap), "--seed", str(seed), "--json", str(results_path)]
+    for name, flag in (("teamenv", "--teamenv"), ("teamenv_calibrated", "--calibrated")):
+        if name in worlds and (out / f"{name}.sqlite").is_file():
+            argv += [f"{flag}-db", str(out / f"{name}.sqlite"), f"{flag}-name", name]
+    if common_pairings:
+        argv.append("--common-pairings")
     fr.main(argv)
     results = json.loads(results_path.read_text())
     results["ranks"] = ranks(results["ranking"])
@@ -282,8 +288,10 @@ def main(argv: list[str] | None = None) -> int:
                         help="play the league matches as Ray tasks: local, auto or an address")
     parser.add_argument("--bootstrap", type=int, default=1000, help="bootstrap resamples")
     parser.add_argument("--worlds", nargs="+", default=list(WORLD_NAMES), choices=WORLD_NAMES,
-                        help="which round robins to play (default all three; the analysis "
-                        "reads whatever is stored)")
+                        help="which round robins to play and compare (default all three)")
+    parser.add_argument("--common-pairings", action="store_true",
+                        help="analyse only the pairings every world has played (a run under "
+                        "way; the rankings then rest on those matches alone)")
     parser.add_argument("--analyse-only", action="store_true",
                         help="only the analysis of what is stored under --out")
     parser.add_argument("--figure", default=str(ROOT / "docs" / "fidelity_study.png"))
@@ -307,7 +315,8 @@ def main(argv: list[str] | None = None) -> int:
         finally:
             signal.signal(signal.SIGTERM, previous)
     analyse(Path(args.out), args.bootstrap, 0, Path(args.figure) if args.figure else None,
-            Path(args.page) if args.page else None, args.note)
+            Path(args.page) if args.page else None, args.note, args.worlds,
+            args.common_pairings)
     return 0
 
 

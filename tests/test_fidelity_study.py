@@ -60,3 +60,21 @@ def test_stat_ratios_flag_the_25_percent_band():
 def test_study_refuses_a_seed_outside_the_evaluation_range(tmp_path):
     with pytest.raises(SystemExit):
         study.main(["--out", str(tmp_path), "--seed", "5", "--analyse-only"])
+
+
+def test_a_run_under_way_is_compared_on_the_pairings_every_world_has_played(run, tmp_path):
+    """Only the league's first four matches (full's) are stored: with ``common_pairings`` the
+    calibrated world is compared on the same four pairings, and the world not asked for is
+    left out."""
+    import sqlite3
+
+    with sqlite3.connect(run / "league.sqlite") as db:
+        db.execute("DELETE FROM matches WHERE left_team != 'full' AND right_team != 'full'")
+    results = study.analyse(run, bootstrap=50, seed=0, figure=None, page=None,
+                            worlds=("teamenv_calibrated", "league"), common_pairings=True)
+    assert results["league_matches"] == 4
+    assert set(results["stats"]) == {"teamenv calibrated", "league"}
+    assert results["stats"]["teamenv calibrated"]["matches"] == 4
+    assert not any(key.startswith("teamenv vs") for key in results["agreement"])
+    everything = study.analyse(run, bootstrap=50, seed=0, figure=None, page=None)
+    assert everything["stats"]["teamenv calibrated"]["matches"] == 6
