@@ -23,14 +23,10 @@ import numpy as np
 
 
 @numba.njit(inline="always")
-def _raises(result: float, x: float) -> bool:
+def _raises(result: float, x: float, y: float) -> bool:
     """Whether the element is left to ``math``: a NaN argument or result, or an infinite
-    result of a finite argument (where ``math`` raises)."""
-    return math.isnan(result) or math.isnan(x) or (math.isinf(result) and math.isfinite(x))
-
-
-@numba.njit(inline="always")
-def _raises2(result: float, x: float, y: float) -> bool:
+    result of finite arguments (where ``math`` raises). One-argument functions pass their
+    argument twice."""
     return math.isnan(result) or math.isnan(x) or math.isnan(y) or (
         math.isinf(result) and math.isfinite(x) and math.isfinite(y))
 
@@ -69,7 +65,7 @@ def unary(which: int, x: np.ndarray, out: np.ndarray, left: np.ndarray) -> bool:
     any_left = False
     for i in range(x.size):
         out[i] = r = _unary(which, x[i])
-        left[i] = f = _raises(r, x[i])
+        left[i] = f = _raises(r, x[i], x[i])
         any_left |= f
     return any_left
 
@@ -82,7 +78,7 @@ def binary(which: int, x: np.ndarray, y: np.ndarray, out: np.ndarray,
     for i in range(x.size):
         r = math.atan2(x[i], y[i]) if which == ATAN2 else math.pow(x[i], y[i])
         out[i] = r
-        left[i] = f = _raises2(r, x[i], y[i])
+        left[i] = f = _raises(r, x[i], y[i])
         any_left |= f
     return any_left
 
