@@ -125,10 +125,28 @@ def _exact_dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float6
                          groups: NDArray[np.int64] | None = None) -> NDArray[np.int64]:
     """sklearn's DBSCAN labels for integer-valued weights, in one compiled pass over each
     group's pairs (``strategy.perception.dbscan``, imported on first use: numba takes a few
-    tenths of a second to import)."""
-    from strategy.perception.dbscan import grouped_dbscan_labels
+    tenths of a second to import): each point compared only with the points of its own group
+    (``groups``: (n,) ints; None: one group)."""
+    from strategy.perception.dbscan import grouped_labels
 
-    return grouped_dbscan_labels(points, weights, eps, min_samples, groups)
+    pts = np.asarray(points, dtype=np.float64)
+    n = len(pts)
+    out = np.full(n, -1, dtype=np.int64)
+    if n == 0:
+        return out
+    pts = np.ascontiguousarray(pts.reshape(n, -1))
+    w = np.ascontiguousarray(weights, dtype=np.float64)
+    original = np.arange(n)
+    if groups is None:
+        bounds = np.array([0, n])
+    else:
+        g = np.asarray(groups)
+        if n > 1 and not bool((g[1:] >= g[:-1]).all()):
+            original = np.argsort(g, kind="stable")  # within a group, the callers' order
+            g, pts, w = g[original], pts[original], w[original]
+        bounds = np.append(_starts(g), n)
+    grouped_labels(pts, w, bounds, float(eps) * float(eps), float(min_samples), original, out)
+    return out
 
 
 def _group_pairs(starts: NDArray[np.intp], counts: NDArray[np.intp]

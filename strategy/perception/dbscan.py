@@ -1,4 +1,5 @@
-"""DBSCAN labels of small groups of points in one compiled pass (numba).
+"""DBSCAN labels of small groups of points in one compiled pass (numba), for
+``strategy.perception.clustering``.
 
 The decisions are scikit-learn's (``sklearn.cluster._dbscan_inner``), for integer-valued
 weights: a point's neighbourhood is every point of its group whose squared distance, summed
@@ -20,7 +21,6 @@ from __future__ import annotations
 
 import numba
 import numpy as np
-from numpy.typing import NDArray
 
 
 @numba.njit(inline="always")
@@ -41,26 +41,27 @@ def _find(parent: np.ndarray, i: int) -> int:
 
 
 @numba.njit(cache=True)
-def _labels(points: np.ndarray, weights: np.ndarray, starts: np.ndarray, eps2: float,
-            min_samples: float, original: np.ndarray, out: np.ndarray) -> None:
+def grouped_labels(points: np.ndarray, weights: np.ndarray, bounds: np.ndarray, eps2: float,
+                   min_samples: float, original: np.ndarray, out: np.ndarray) -> None:
+    """``out[original[i]]``: the label of point ``i`` of ``points`` (n, d) with integer-valued
+    ``weights`` (n,), its group the points ``bounds[g]`` to ``bounds[g + 1] - 1`` (``bounds``:
+    the groups' starts, then n); clusters numbered in the order of their first point's
+    ``original`` index."""
     n = points.shape[0]
-    groups = starts.size
     weight = weights.copy()  # each point's neighbourhood weight, itself included
-    for g in range(groups):
-        end = starts[g + 1] if g + 1 < groups else n
-        for j in range(starts[g] + 1, end):
-            for i in range(starts[g], j):
+    for g in range(bounds.size - 1):
+        for j in range(bounds[g] + 1, bounds[g + 1]):
+            for i in range(bounds[g], j):
                 if _near(points, i, j, eps2):
                     weight[i] += weights[j]
                     weight[j] += weights[i]
     core = weight >= min_samples
     parent = np.arange(n)
-    for g in range(groups):
-        end = starts[g + 1] if g + 1 < groups else n
-        for j in range(starts[g] + 1, end):
+    for g in range(bounds.size - 1):
+        for j in range(bounds[g] + 1, bounds[g + 1]):
             if not core[j]:
                 continue
-            for i in range(starts[g], j):
+            for i in range(bounds[g], j):
                 if core[i] and _near(points, i, j, eps2):
                     a, b = _find(parent, i), _find(parent, j)
                     if a < b:  # the smaller point names the component
@@ -71,10 +72,9 @@ def _labels(points: np.ndarray, weights: np.ndarray, starts: np.ndarray, eps2: f
     for i in range(n):
         if core[i]:
             root[i] = _find(parent, i)
-    for g in range(groups):  # a border point: the first cluster among its core neighbours
-        end = starts[g + 1] if g + 1 < groups else n
-        for j in range(starts[g] + 1, end):
-            for i in range(starts[g], j):
+    for g in range(bounds.size - 1):  # a border point: the first cluster of its core neighbours
+        for j in range(bounds[g] + 1, bounds[g + 1]):
+            for i in range(bounds[g], j):
                 if core[i] != core[j] and _near(points, i, j, eps2):
                     if core[i]:
                         root[j] = min(root[j], root[i])
@@ -89,28 +89,3 @@ def _labels(points: np.ndarray, weights: np.ndarray, starts: np.ndarray, eps2: f
     for i in range(n):
         out[original[i]] = number[root[i]]
 
-
-def grouped_dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float64],
-                          eps: float, min_samples: int,
-                          groups: NDArray[np.int64] | None = None) -> NDArray[np.int64]:
-    """(n,) DBSCAN labels (-1: noise) of ``points`` (n,) or (n, d) with integer-valued
-    ``weights``, each point compared only with the points of its own group (``groups``:
-    (n,) ints; None: one group); see the module doc."""
-    pts = np.asarray(points, dtype=np.float64)
-    n = len(pts)
-    out = np.full(n, -1, dtype=np.int64)
-    if n == 0:
-        return out
-    pts = np.ascontiguousarray(pts.reshape(n, -1))
-    w = np.ascontiguousarray(weights, dtype=np.float64)
-    original = np.arange(n)
-    if groups is None:
-        starts = np.zeros(1, dtype=np.int64)
-    else:
-        g = np.asarray(groups)
-        if n > 1 and not bool((g[1:] >= g[:-1]).all()):
-            original = np.argsort(g, kind="stable")  # within a group, the callers' order
-            g, pts, w = g[original], pts[original], w[original]
-        starts = np.concatenate(([0], np.flatnonzero(g[1:] != g[:-1]) + 1)).astype(np.int64)
-    _labels(pts, w, starts, float(eps) * float(eps), float(min_samples), original, out)
-    return out
