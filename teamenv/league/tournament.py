@@ -111,13 +111,24 @@ class LeagueBackend:
             import multiprocessing
             from concurrent.futures import ProcessPoolExecutor, as_completed
 
-            with ProcessPoolExecutor(self.workers,
-                                     mp_context=multiprocessing.get_context("spawn")) as pool:
-                futures = {pool.submit(play_league_task, task, **settings): task
-                           for task in tasks}
+            from teamenv.tournament.backends import terminate_workers
+
+            pool = ProcessPoolExecutor(self.workers,
+                                       mp_context=multiprocessing.get_context("spawn"))
+            futures = {pool.submit(play_league_task, task, **settings): task for task in tasks}
+            finished = False
+            try:
                 for future in as_completed(futures):
                     # a TeamFault stops the run, as in one process
                     yield Outcome(futures[future], future.result())
+                finished = True
+            finally:
+                if not finished:
+                    # interrupted (Ctrl-C, SIGTERM, a fault, the generator closed): stop the
+                    # matches in flight and drop the queued ones; a plain shutdown would
+                    # play every queued match to its end, unstored
+                    terminate_workers(pool)
+                pool.shutdown(wait=finished, cancel_futures=True)
 
 
 def run_league_tournament(

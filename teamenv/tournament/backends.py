@@ -219,7 +219,7 @@ class ProcessPoolBackend:
                     return
         finally:
             if inflight:  # interrupted (Ctrl-C, generator closed) or broken: stop workers now
-                _terminate_workers(pool)
+                terminate_workers(pool)
             pool.shutdown(wait=not inflight, cancel_futures=True)
 
     def _run_isolated(self, task: MatchTask) -> Outcome:
@@ -233,7 +233,7 @@ class ProcessPoolBackend:
                 return Outcome(task, error=f"{type(exc).__name__}: {exc}")
 
 
-def _terminate_workers(pool: ProcessPoolExecutor) -> None:
+def terminate_workers(pool: ProcessPoolExecutor) -> None:
     """Kill a pool's worker processes (their matches are abandoned, not stored)."""
     for process in list((getattr(pool, "_processes", None) or {}).values()):
         try:

@@ -126,3 +126,49 @@ def test_league_round_robin_as_ray_tasks(tmp_path):
         tid, _ = store.get_tournament("rr")
         rows = league_table(store.matches(tid), TEAMS[:2])
     assert {r.team: r.points for r in rows} == {"chaser": 4, "static": 1}  # a win, a draw
+
+
+class SlowPlay:
+    """A league match stand-in for worker processes: the first match (a marker file decides)
+    ends at once, every other one marks that it started, sleeps ``sleep_s`` and marks that
+    it finished."""
+
+    def __init__(self, folder, sleep_s=60.0):
+        self.folder, self.sleep_s = str(folder), sleep_s
+
+    def __call__(self, left, right, options, seed, log_dir=None):
+        import os
+        import time
+        from pathlib import Path
+
+        folder = Path(self.folder)
+        try:
+            fd = os.open(folder / "first", os.O_CREAT | os.O_EXCL | os.O_WRONLY)
+            os.close(fd)
+        except FileExistsError:
+            (folder / f"started-{seed}").touch()
+            time.sleep(self.sleep_s)
+            (folder / f"finished-{seed}").touch()
+        return FakePlay()(left, right, options, seed)
+
+
+def test_an_interrupt_stops_the_worker_processes(tmp_path):
+    """Ctrl-C (or SIGTERM, the same in the study) after the first stored match: the matches in
+    flight are stopped and the queued ones never start (a plain pool shutdown would play all
+    of them to their end, unstored)."""
+    markers = tmp_path / "markers"
+    markers.mkdir()
+
+    def interrupt(k, n, result):
+        raise KeyboardInterrupt
+
+    db = tmp_path / "rr.sqlite"
+    with pytest.raises(KeyboardInterrupt):
+        lt.run_league_tournament("rr", db, TEAMS, OPTS, play=SlowPlay(markers), workers=2,
+                                 on_match=interrupt)
+    started = sorted(p.name for p in markers.glob("started-*"))
+    assert len(started) <= 2                       # at most one per worker; 6 matches queued
+    assert not list(markers.glob("finished-*"))    # the sleeping matches were killed
+    with ResultStore(db) as store:
+        tid, _ = store.get_tournament("rr")
+        assert len(store.matches(tid)) == 1        # the first match, stored before the stop
