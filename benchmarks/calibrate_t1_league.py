@@ -28,7 +28,12 @@ Sources, each optional (a parameter without a source keeps its value and provena
   ``measurements`` (the 2D model's falls come from its push thresholds and command jumps,
   which these numbers are compared with); and the mean time a fallen robot stayed down
   (``teamenv.league.replay.down_times``: second tries and the referee included), which is the
-  get-up time (it replaces the trials' time of the successes, which leaves those out).
+  get-up time (it replaces the trials' time of the successes, which leaves those out);
+- **the walk's falls** (``--fit-falls``, with ``--replays``): the command-jump fall model
+  (``command_jump_threshold``, ``command_jump_fall_probability``) fitted so that teamenv,
+  playing the replays' pairings under this profile, falls as often as the league robots did,
+  alone and near another robot (``benchmarks/league_fall_fit.py``; minutes of CPU per grid
+  point).
 """
 
 from __future__ import annotations
@@ -36,10 +41,14 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import sys
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import league_fall_fit  # noqa: E402  (the sibling script)
 
 ROOT = Path(__file__).resolve().parents[1]
 PROFILE = ROOT / "locomotion" / "profiles" / "t1_league.json"
@@ -260,6 +269,20 @@ def update_profile(profile: dict[str, Any], params: dict[str, dict],
     return out
 
 
+def _grid(ap: argparse.ArgumentParser, points: list[str] | None
+          ) -> tuple[tuple[float, float], ...]:
+    if points is None:
+        return league_fall_fit.GRID
+    out = []
+    for point in points:
+        try:
+            threshold, probability = (float(x) for x in point.split(":"))
+        except ValueError:
+            ap.error(f"--fit-grid: {point!r} is not THRESHOLD:PROBABILITY (e.g. 1.25:0.2)")
+        out.append((threshold, probability))
+    return tuple(out)
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -277,6 +300,15 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--kick-angle", default=None, help="league_kick_angle.py --out file")
     ap.add_argument("--getup", default=None, help="league_getup_trials.py --json file")
     ap.add_argument("--replays", default=None, help="a folder of league match replays")
+    ap.add_argument("--fit-falls", action="store_true",
+                    help="with --replays: fit the command-jump fall model to the league's falls")
+    ap.add_argument("--fit-seconds", type=float, default=60.0,
+                    help="game time of each fit match (s)")
+    ap.add_argument("--fit-seed", type=int, default=league_fall_fit.SEED0,
+                    help="first (tuning) seed of the fit's matches")
+    ap.add_argument("--fit-grid", nargs="+", default=None, metavar="THRESHOLD:PROBABILITY",
+                    help="the (threshold, probability) points to try (default: "
+                    + " ".join(f"{t:g}:{p:g}" for t, p in league_fall_fit.GRID) + ")")
     ap.add_argument("--dry-run", action="store_true", help="print, write nothing")
     args = ap.parse_args(argv)
     profile = json.loads(Path(args.profile).read_text())
@@ -304,6 +336,17 @@ def main(argv: list[str] | None = None) -> int:
         print("falls:", measurements["falls"])
         # matches count the retries
         params |= getup_from_replays(replays, Path(args.replays).name)
+        if args.fit_falls:
+            # the fit plays under the profile as updated so far (the get-up time included)
+            current = update_profile(profile, params, {})
+            fitted, record = league_fall_fit.fit(current, replays, args.fit_seconds,
+                                                 grid=_grid(ap, args.fit_grid),
+                                                 seed0=args.fit_seed,
+                                                 source=Path(args.replays).name)
+            params |= fitted
+            measurements["fall_fit"] = record
+    elif args.fit_falls:
+        ap.error("--fit-falls needs --replays")
     updated = update_profile(profile, params, measurements)
     if params:
         # the description lists everything this script regenerated, in this run or before
@@ -323,6 +366,8 @@ def main(argv: list[str] | None = None) -> int:
             parts.append("kick reach from the league kick's start spot")
         if "kick_max_angle" in regenerated:
             parts.append("the kick's largest angle off the heading from kick trials")
+        if "command_jump_fall_probability" in regenerated:
+            parts.append("the walk's falls fitted to league matches")
         if "getup_duration" in regenerated:
             parts.append("get-up time from " + (
                 "league matches" if "league matches" in
