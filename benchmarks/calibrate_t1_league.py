@@ -243,7 +243,7 @@ def fall_statistics(replays: list, replay_dir: Path, near_m: float = 1.0) -> dic
     return {"replays": len(replays), "robot_minutes": round(robot_minutes, 2), "falls": falls,
             "falls_per_robot_minute": round(falls / robot_minutes, 4) if robot_minutes else None,
             f"share_within_{near_m:g}_m": round(near / falls, 3) if falls else None,
-            "source": f"{SCRIPT} on {replay_dir}"}
+            "source": f"{SCRIPT} on {Path(replay_dir).name}"}
 
 
 def update_profile(profile: dict[str, Any], params: dict[str, dict],
