@@ -18,6 +18,11 @@ range of ``teamenv.seeds``), each stored as it is played in its own SQLite file 
   seeded; ``--ray-address`` plays them as Ray tasks), recorded as replays so both worlds get
   the same statistics (``teamenv.analytics.stats``).
 
+A teamenv world's database is tied to the profile file it was played with: ``--out``'s
+``profiles.json`` keeps each world's profile name and the SHA-256 of its file, and a resume
+under a changed profile (e.g. ``t1_league`` recalibrated) stops with an error instead of
+mixing matches of two bodies in one table.
+
 A league match is one stretch of ``--seconds`` of play (the server's half is 300 s); the env
 plays the same stretch as one half. The analysis is ``benchmarks/fidelity_ranking.py``'s
 (Spearman rho and Kendall tau between the worlds' rankings, by points, goal difference, xG
@@ -76,6 +81,41 @@ def env_options(seconds: float, team_size: int, profile: str):
                         locomotion_profile=profile, double_touch=True)
 
 
+PROFILES_FILE = "profiles.json"
+
+
+def profile_digest(profile: str) -> str:
+    """SHA-256 of the profile file a world plays with (``locomotion.PROFILES`` by name)."""
+    import hashlib
+
+    from locomotion import load_profile
+
+    return hashlib.sha256(Path(load_profile(profile).path).read_bytes()).hexdigest()
+
+
+def check_profile(out: Path, world: str, profile: str) -> None:
+    """Record the profile ``world`` is played with in ``out/profiles.json``, or stop when its
+    stored matches were played with another version of that profile."""
+    path = out / PROFILES_FILE
+    recorded = json.loads(path.read_text()) if path.is_file() else {}
+    digest = profile_digest(profile)
+    before = recorded.get(world)
+    if before is not None and (before["profile"], before["sha256"]) != (profile, digest):
+        raise SystemExit(
+            f"{world}: the matches stored in {out / (world + '.sqlite')} were played with "
+            f"profile {before['profile']} (sha256 {before['sha256'][:12]}), this run would "
+            f"play with {profile} (sha256 {digest[:12]}): move that database away to play the "
+            f"world again with the current profile, or check out the profile it was played "
+            f"with")
+    if before is None and (out / f"{world}.sqlite").is_file():
+        raise SystemExit(
+            f"{world}: {out / (world + '.sqlite')} has no profile record in "
+            f"{path}: add one ({{\"{world}\": {{\"profile\": \"{profile}\", "
+            f"\"sha256\": ...}}}}, the file it was played with) or move it away")
+    recorded[world] = {"profile": profile, "sha256": digest}
+    path.write_text(json.dumps(recorded, indent=2, sort_keys=True) + "\n")
+
+
 def play(args: argparse.Namespace) -> None:
     """Play (or finish) the three round robins."""
     from teamenv.league.match import LeagueMatchOptions
@@ -89,6 +129,7 @@ def play(args: argparse.Namespace) -> None:
         name = world.replace(" ", "_")
         if name not in args.worlds:
             continue
+        check_profile(out, name, profile)
         t = round_robin(name, teams, games_per_pairing=args.games, swap_sides=True,
                         seed=args.seed, options=env_options(args.seconds, args.team_size,
                                                             profile))
@@ -122,6 +163,8 @@ def analyse(out: Path, bootstrap: int, seed: int, figure: Path | None,
         argv.append("--common-pairings")
     fr.main(argv)
     results = json.loads(results_path.read_text())
+    if (out / PROFILES_FILE).is_file():   # which body each teamenv world was played with
+        results["profiles"] = json.loads((out / PROFILES_FILE).read_text())
     results["ranks"] = ranks(results["ranking"])
     results["stat_ratios"] = stat_ratios(results["stats"])
     results_path.write_text(json.dumps(results, indent=2))

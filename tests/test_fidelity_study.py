@@ -78,3 +78,25 @@ def test_a_run_under_way_is_compared_on_the_pairings_every_world_has_played(run,
     assert not any(key.startswith("teamenv vs") for key in results["agreement"])
     everything = study.analyse(run, bootstrap=50, seed=0, figure=None, page=None)
     assert everything["stats"]["teamenv calibrated"]["matches"] == 6
+
+
+def test_a_world_is_not_resumed_under_another_profile(tmp_path):
+    """The profile each teamenv world plays with is recorded; a resume under a changed
+    profile file (e.g. a recalibrated t1_league) or an unrecorded database stops, named."""
+    out = tmp_path / "run"
+    out.mkdir()
+    study.check_profile(out, "teamenv_calibrated", "t1_league")
+    recorded = json.loads((out / "profiles.json").read_text())
+    assert recorded["teamenv_calibrated"] == {"profile": "t1_league",
+                                              "sha256": study.profile_digest("t1_league")}
+    (out / "teamenv_calibrated.sqlite").write_bytes(b"")
+    study.check_profile(out, "teamenv_calibrated", "t1_league")      # the same: resumes
+    with pytest.raises(SystemExit, match="played with profile t1_league .* t1_mj"):
+        study.check_profile(out, "teamenv_calibrated", "t1_mj")
+    recorded["teamenv_calibrated"]["sha256"] = "0" * 64              # the file changed since
+    (out / "profiles.json").write_text(json.dumps(recorded))
+    with pytest.raises(SystemExit, match="move that database away"):
+        study.check_profile(out, "teamenv_calibrated", "t1_league")
+    (out / "teamenv.sqlite").write_bytes(b"")
+    with pytest.raises(SystemExit, match="has no profile record"):
+        study.check_profile(out, "teamenv", "t1_mj")
