@@ -227,22 +227,13 @@ def getup_from_replays(replays: list, folder: str) -> dict[str, dict]:
 
 def fall_statistics(replays: list, replay_dir: Path, near_m: float = 1.0) -> dict[str, Any]:
     """Falls per robot and minute of play in league ``replays`` (from ``replay_dir``), and the
-    share near another robot."""
-    from teamenv.league.replay import fall_events
-
-    falls = near = 0
-    robot_minutes = 0.0
-    for replay in replays:
-        playing = replay.play_mode != 0
-        cycle_s = float(replay.metadata["cycle_s"])
-        robot_minutes += float(playing.sum()) * cycle_s / 60.0 * replay.fallen.shape[1]
-        for fall in fall_events(replay):
-            if playing[fall.row]:
-                falls += 1
-                near += fall.nearest_m < near_m
-    return {"replays": len(replays), "robot_minutes": round(robot_minutes, 2), "falls": falls,
+    share near another robot (``league_fall_fit.fall_rates``, as the fit counts them)."""
+    rates = league_fall_fit.fall_rates(replays, near_m)
+    falls, robot_minutes = rates["falls_alone"] + rates["falls_near"], rates["robot_minutes"]
+    return {"replays": len(replays), "robot_minutes": robot_minutes, "falls": falls,
             "falls_per_robot_minute": round(falls / robot_minutes, 4) if robot_minutes else None,
-            f"share_within_{near_m:g}_m": round(near / falls, 3) if falls else None,
+            f"share_within_{near_m:g}_m": round(rates["falls_near"] / falls, 3) if falls
+            else None,
             "source": f"{SCRIPT} on {Path(replay_dir).name}"}
 
 
