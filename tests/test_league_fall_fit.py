@@ -40,6 +40,10 @@ def test_falls_are_counted_alone_and_near_during_play_per_robot_minute():
     assert rates["falls_alone"] == 1 and rates["falls_near"] == 1
     assert rates["robot_minutes"] == pytest.approx(4.0)            # 4 robots x 60 s
     assert rates["alone_per_robot_minute"] == pytest.approx(0.25)
+    stats = load_benchmark("calibrate_t1_league").fall_statistics([synthetic_replay()],
+                                                                   Path("/x/replays"))
+    assert (stats["falls"], stats["falls_per_robot_minute"], stats["share_within_1_m"]) == (
+        2, 0.5, 0.5) and stats["source"].endswith(" on replays")
     assert fit_module.pairings([synthetic_replay(), synthetic_replay("static", "full")]) == [
         ("full", "chaser"), ("static", "full")]
 
