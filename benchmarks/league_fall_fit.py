@@ -22,10 +22,14 @@ relative errors). Used by ``benchmarks/calibrate_t1_league.py --fit-falls``::
 from __future__ import annotations
 
 import json
+import sys
 import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from fidelity_study import env_options  # noqa: E402  (the sibling script: the study's options)
 
 #: (command_jump_threshold, command_jump_fall_probability) points tried by default
 GRID: tuple[tuple[float, float], ...] = ((1.0, 0.1), (1.0, 0.15), (1.25, 0.2), (1.25, 0.3),
@@ -60,15 +64,6 @@ def fall_rates(replays: Sequence[Any], near_m: float = NEAR_M) -> dict[str, floa
 def pairings(replays: Sequence[Any]) -> list[tuple[str, str]]:
     """The (left, right) team specs of the replays' matches, in order."""
     return [(str(r.metadata["left"]), str(r.metadata["right"])) for r in replays]
-
-
-def env_options(seconds: float, team_size: int, profile: str):
-    """The env's options for a league-format match (what the fidelity study plays)."""
-    from teamenv.match import MatchOptions
-
-    return MatchOptions(field="mj7v7", team_size=team_size, half_time_s=seconds, halves=1,
-                        observation_mode="vision", vision="mj", channel="mj",
-                        locomotion_profile=profile, double_touch=True)
 
 
 def play_rates(profile_path: Path, matches: Sequence[tuple[str, str]], seconds: float,
