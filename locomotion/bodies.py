@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import dataclass
 
@@ -11,7 +12,6 @@ import portable_math as pm
 
 from .errors import StepInputError
 from .profile import Profile
-from .walk import apply_envelope, compose, omni_displacement, track
 
 __all__ = ["Bodies", "StepResult"]
 
@@ -109,7 +109,23 @@ class Bodies:
         self._odo_scale = np.asarray(p.odometry_scale, dtype=np.float64)
         self._odo_noise = np.asarray(p.odometry_noise, dtype=np.float64)
         self._odo_noisy = bool(np.any(self._odo_noise > 0))
+        self._params = self._kernel_params()
+        self._tables = _padded_tables(p.tracking)
+        self._rng: np.random.Generator | None = None
+        self._rng_box = None  # the compiled step's handle on _rng
         self.reset()
+
+    def _kernel_params(self) -> np.ndarray:
+        """The profile's numbers the compiled step reads, in ``step_kernel``'s P_* order."""
+        p = self.profile
+        vx_fwd, vx_back, vy, turn, exponent = self._env
+        max_angle = self._kick_max_angle if self._kick_max_angle is not None else math.pi
+        return np.array([
+            self._T, vx_fwd, vx_back, vy, turn, exponent, self._j_lo, self._j_hi,
+            p.command_jump_threshold, p.command_jump_fall_probability, self._down_time,
+            self._kick_sigma, max_angle, p.kick_prep_time, p.kick_duration,
+            p.kick_distance_mean, p.kick_distance_std, p.kick_distance_min,
+            p.kick_distance_max, float(self._odo_noisy)], dtype=np.float64)
 
     # ------------------------------------------------------------------ state
     def reset(self) -> None:
@@ -123,10 +139,9 @@ class Bodies:
         self.kick_aim = np.zeros(n)
         self._push = np.zeros((n, 2))
         self._pushed = False
-        self._n_down = 0
-        self._n_kicking = 0
-        self._cache = np.zeros((n, 3))
-        self._cache_dt = -1.0
+        self._counts = np.zeros(2, dtype=np.int64)  # bodies down, bodies kicking
+        self._cache = np.zeros((n, 3))  # displacement over _cache_dt at the current velocities
+        self._cache_dt = np.full(1, -1.0)  # -1: the cache is invalid
         self._all_true = np.ones(n, dtype=bool)
         self._all_false = np.zeros(n, dtype=bool)
         self._all_true.setflags(write=False)
@@ -194,33 +209,36 @@ class Bodies:
 
         The steps below run in this order, and so draw from ``rng`` in this order: falls from
         collisions and pushes, kick starts, the walk (and falls from command jumps at step
-        boundaries), kick contact, odometry noise, fall timers.
+        boundaries), kick contact, odometry noise, fall timers. One compiled call
+        (``step_kernel.step_bodies``) runs them all.
         """
         walk_cmd, kick_request, kick_power, kick_dir, impacts = self._checked(
             walk_cmd, kick_request, kick_power, kick_dir, impacts, dt
         )
-        any_down = self._n_down > 0
-        up = self.down_left <= 0.0 if any_down else self._all_true
-        fell, fell_any = self._topple(impacts, up, rng)
-        kicking, kick_active = self._start_kicks(
-            kick_request, kick_power, kick_dir, up, any_down, fell, fell_any
-        )
-        all_walk = not (any_down or fell_any or kick_active)
-        if all_walk:
-            walking = self._all_true
-        else:
-            walking = up
-            if fell_any:
-                walking = walking & ~fell
-            if kick_active:
-                walking = walking & ~kicking
-        delta, fell, fell_any = self._walk(walk_cmd, walking, all_walk, fell, fell_any, rng, dt)
-        kick_now, kick_distance, kick_direction = self._kick_contact(
-            kick_active, fell, fell_any, rng, dt
-        )
-        odometry = self._odometry(delta, rng)
-        fallen = self._fall_timers(any_down, fell, fell_any, dt)
-        kicking_after = self.kick_elapsed >= 0.0 if self._n_kicking else self._all_false
+        if rng is not self._rng:
+            self._rng = rng
+            self._rng_box = _kernel().rng_box(rng)
+        elif self._rng_box is None:  # after unpickling or copying
+            self._rng_box = _kernel().rng_box(rng)
+        pushed = self._pushed
+        push_fell = self._push_fell(self.down_left <= 0.0 if self._counts[0] else self._all_true) \
+            if pushed else self._all_false
+        n = self.n
+        delta = np.empty((n, 3))
+        odometry = np.empty((n, 3))
+        kick_now = np.empty(n, dtype=bool)
+        kick_distance = np.empty(n)
+        kick_direction = np.empty(n)
+        fallen = np.empty(n, dtype=bool)
+        fell = np.empty(n, dtype=bool)
+        can_act = np.empty(n, dtype=bool)
+        _kernel().step_bodies(
+            self._rng_box, walk_cmd, kick_request, kick_power, kick_dir, impacts, push_fell,
+            pushed, float(dt), self._params, self._tables, self._dv, self._lim_fwd,
+            self._lim_back, self._odo_scale, self._odo_noise, self.velocity, self.phase,
+            self.down_left, self.kick_elapsed, self.kick_power, self.kick_aim, self._cache,
+            self._cache_dt, self._counts, delta, odometry, kick_now, kick_distance,
+            kick_direction, fallen, fell, can_act)
         # = StepResult(...), without the frozen dataclass's nine object.__setattr__ calls
         result = _object_new(StepResult)
         result.__dict__.update(
@@ -230,9 +248,9 @@ class Bodies:
             kick_now=kick_now,
             kick_distance=kick_distance,
             kick_direction=kick_direction,
-            fallen=fallen.copy(),
-            can_act=~(fallen | kicking_after),
-            fell=fell.copy(),
+            fallen=fallen,
+            can_act=can_act,
+            fell=fell,
         )
         return result
 
@@ -245,15 +263,16 @@ class Bodies:
         impacts: np.ndarray,
         dt: float,
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """``step``'s inputs as float (bool) arrays of the right shapes, and ``dt`` in range."""
+        """``step``'s inputs as contiguous float (bool) arrays of the right shapes, and ``dt``
+        in range."""
         n = self.n
-        walk_cmd = np.asarray(walk_cmd, dtype=np.float64)
+        walk_cmd = np.ascontiguousarray(walk_cmd, dtype=np.float64)
         if walk_cmd.shape != (n, 3):
             raise StepInputError("walk_cmd", walk_cmd.shape, f"must have shape ({n}, 3)")
-        kick_request = np.asarray(kick_request, dtype=bool)
-        kick_power = np.asarray(kick_power, dtype=np.float64)
-        kick_dir = np.asarray(kick_dir, dtype=np.float64)
-        impacts = np.asarray(impacts, dtype=np.float64)
+        kick_request = np.ascontiguousarray(kick_request, dtype=bool)
+        kick_power = np.ascontiguousarray(kick_power, dtype=np.float64)
+        kick_dir = np.ascontiguousarray(kick_dir, dtype=np.float64)
+        impacts = np.ascontiguousarray(impacts, dtype=np.float64)
         for name, arr in (
             ("kick_request", kick_request),
             ("kick_power", kick_power),
@@ -267,170 +286,43 @@ class Bodies:
             raise StepInputError("dt", dt, f"must lie in (0, step_period = {T}] s")
         return walk_cmd, kick_request, kick_power, kick_dir, impacts
 
-    def _topple(
-        self, impacts: np.ndarray, up: np.ndarray, rng: np.random.Generator
-    ) -> tuple[np.ndarray, bool]:
-        """Falls from collisions and pushes, decided at the start of the cycle: (fell, any)."""
-        fell = self._all_false
-        fell_any = False
-        if impacts.max() > self._j_lo:
-            prob = np.clip((impacts - self._j_lo) / max(self._j_hi - self._j_lo, _EPS), 0.0, 1.0)
-            fell = (impacts > self._j_lo) & up & (rng.random(self.n) < prob)
-            fell_any = bool(np.count_nonzero(fell))
-        if self._pushed:
-            spd = np.hypot(self._push[:, 0], self._push[:, 1])
-            thr = self.push_threshold(pm.arctan2(self._push[:, 1], self._push[:, 0]))
-            fell = fell | (up & (spd >= thr) & (spd > 0.0))
-            fell_any = bool(np.count_nonzero(fell))
-            self._push[:] = 0.0
-            self._pushed = False
-        return fell, fell_any
+    def _push_fell(self, up: np.ndarray) -> np.ndarray:
+        """Falls from the pushes queued since the last step (no random draw); clears them."""
+        spd = np.hypot(self._push[:, 0], self._push[:, 1])
+        thr = self.push_threshold(pm.arctan2(self._push[:, 1], self._push[:, 0]))
+        fell = up & (spd >= thr) & (spd > 0.0)
+        self._push[:] = 0.0
+        self._pushed = False
+        return fell
 
-    def _start_kicks(
-        self,
-        kick_request: np.ndarray,
-        kick_power: np.ndarray,
-        kick_dir: np.ndarray,
-        up: np.ndarray,
-        any_down: bool,
-        fell: np.ndarray,
-        fell_any: bool,
-    ) -> tuple[np.ndarray, bool]:
-        """Start the requested kicks of players that can act: (kicking, any kicking)."""
-        if not (self._n_kicking or np.count_nonzero(kick_request)):
-            return self._all_false, False
-        start = kick_request & (kick_power > 0.0) & (self.kick_elapsed < 0.0)
-        if self._kick_max_angle is not None:
-            off = np.abs(np.remainder(kick_dir + math.pi, 2.0 * math.pi) - math.pi)
-            start &= off <= self._kick_max_angle
-        if any_down:
-            start &= up
-        if fell_any:
-            start &= ~fell
-        if np.count_nonzero(start):
-            self.kick_elapsed[start] = 0.0
-            self.kick_power[start] = np.clip(kick_power[start], 0.0, 1.0)
-            self.kick_aim[start] = kick_dir[start]
-        kicking = self.kick_elapsed >= 0.0
-        return kicking, bool(np.count_nonzero(kicking))
+    def __getstate__(self) -> dict:
+        state = self.__dict__.copy()
+        state["_rng_box"] = None  # a numba typed list: rebuilt on the next step
+        return state
 
-    def _walk(
-        self,
-        walk_cmd: np.ndarray,
-        walking: np.ndarray,
-        all_walk: bool,
-        fell: np.ndarray,
-        fell_any: bool,
-        rng: np.random.Generator,
-        dt: float,
-    ) -> tuple[np.ndarray, np.ndarray, bool]:
-        """The walk: constant velocity within a step (eq. 4), the command taken at step
-        boundaries, where too big a change may topple. Updates ``velocity`` and ``phase``;
-        returns (delta_pose, fell, any fell)."""
-        T = self._T
-        vel = self.velocity
-        phase = self.phase
-        boundary = phase + dt >= T - _EPS
-        if not all_walk:
-            boundary &= walking
-        if dt != self._cache_dt:  # displacement over dt at the current velocities
-            self._cache = omni_displacement(vel, dt)
-            self._cache_dt = dt
-        if np.count_nonzero(boundary):
-            tb = np.where(boundary, np.maximum(T - phase, 0.0), dt)
-            target = apply_envelope(track(walk_cmd, self.profile.tracking), *self._env)
-            change = target - vel
-            lim = np.where(change[:, :1] >= 0.0, self._lim_fwd, self._lim_back)
-            jump = np.sqrt(np.sum((change / lim) ** 2, axis=1))
-            risky = boundary & (jump > self.profile.command_jump_threshold)
-            if np.count_nonzero(risky):
-                fell = fell | (
-                    risky & (rng.random(self.n) < self.profile.command_jump_fall_probability)
-                )
-                fell_any = bool(np.count_nonzero(fell))
-            new_vel = apply_envelope(vel + np.clip(change, -self._dv, self._dv), *self._env)
-            if (tb < dt - _EPS).any():  # a boundary inside the cycle: split it exactly
-                d1 = omni_displacement(vel, tb)
-                vel = np.where(boundary[:, None], new_vel, vel)
-                delta = compose(d1, omni_displacement(vel, dt - tb))
-            else:  # every boundary falls at the end of the cycle (T a multiple of dt)
-                delta = self._cache.copy()
-                vel = np.where(boundary[:, None], new_vel, vel)
-            phase = np.where(boundary, np.maximum(phase + dt - T, 0.0), phase + dt)
-            self._cache_dt = -1.0
-        else:
-            delta = self._cache.copy()
-            phase = phase + dt
-        if not all_walk or fell_any:
-            moving = walking & ~fell if fell_any else walking
-            mcol = moving[:, None]
-            delta *= mcol
-            # the cache stays valid: rows of bodies that stop are masked until their next
-            # walking cycle, which is always a step boundary (phase = T below)
-            vel = vel * mcol
-            phase = np.where(moving, phase, T)
-        self.phase = phase
-        self.velocity = vel
-        return delta, fell, fell_any
+    def __deepcopy__(self, memo: dict) -> Bodies:
+        state = self.__getstate__()
+        new = _object_new(Bodies)
+        memo[id(self)] = new
+        new.__dict__.update(copy.deepcopy(state, memo))
+        return new
 
-    def _kick_contact(
-        self,
-        kick_active: bool,
-        fell: np.ndarray,
-        fell_any: bool,
-        rng: np.random.Generator,
-        dt: float,
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Kick contact and end (a fall cancels the kick): (kick_now, distance, direction)."""
-        n = self.n
-        if fell_any:
-            self.kick_elapsed[fell] = -1.0
-        kick_now = np.zeros(n, dtype=bool)
-        kick_distance = np.zeros(n)
-        kick_direction = np.zeros(n)
-        if not kick_active:
-            self._n_kicking = 0
-            return kick_now, kick_distance, kick_direction
-        p = self.profile
-        e0 = self.kick_elapsed
-        prep = p.kick_prep_time
-        # e0 < 0 where no kick is in progress
-        if prep <= _EPS:
-            kick_now = (e0 >= 0.0) & (e0 <= _EPS)
-        else:
-            kick_now = (e0 <= prep + _EPS) & (e0 > max(prep + _EPS - dt, -0.5))
-        if np.count_nonzero(kick_now):
-            k = int(np.count_nonzero(kick_now))
-            dist = rng.normal(p.kick_distance_mean, p.kick_distance_std, k)
-            dist = np.clip(dist, p.kick_distance_min, p.kick_distance_max)
-            kick_distance[kick_now] = self.kick_power[kick_now] * dist
-            kick_direction[kick_now] = self.kick_aim[kick_now] + rng.normal(
-                0.0, self._kick_sigma, k
-            )
-        e1 = e0 + dt
-        e1[(e0 < 0.0) | (e1 >= p.kick_duration - _EPS)] = -1.0
-        self.kick_elapsed = e1
-        self._n_kicking = int(np.count_nonzero(e1 >= 0.0))
-        return kick_now, kick_distance, kick_direction
 
-    def _odometry(self, delta: np.ndarray, rng: np.random.Generator) -> np.ndarray:
-        """What the walking engine believes it moved: scaled, with per-channel noise."""
-        odometry = delta * self._odo_scale
-        if self._odo_noisy:
-            odometry *= 1.0 + self._odo_noise * rng.standard_normal((self.n, 3))
-        return odometry
+def _padded_tables(tracking: tuple[tuple[np.ndarray, np.ndarray], ...]) -> np.ndarray:
+    """The three tracking curves as one (3, 2, m) array, each padded by repeating its last
+    point (np.interp's answer does not change)."""
+    m = max(len(xp) for xp, _ in tracking)
+    out = np.empty((3, 2, m))
+    for k, (xp, fp) in enumerate(tracking):
+        out[k, 0, :len(xp)] = xp
+        out[k, 0, len(xp):] = xp[-1]
+        out[k, 1, :len(fp)] = fp
+        out[k, 1, len(fp):] = fp[-1]
+    return out
 
-    def _fall_timers(
-        self, any_down: bool, fell: np.ndarray, fell_any: bool, dt: float
-    ) -> np.ndarray:
-        """Count the fallen players' down time; start it for the new falls. Returns fallen."""
-        if not (any_down or fell_any):
-            return self._all_false
-        left = self.down_left - dt
-        if fell_any:
-            left[fell] = self._down_time
-        left[left <= _EPS] = 0.0
-        self.down_left = left
-        fallen = left > 0.0
-        self._n_down = int(np.count_nonzero(fallen))
-        return fallen
+
+def _kernel():
+    """The compiled step (imported on first use: numba's import costs a few tenths of a s)."""
+    from . import step_kernel
+
+    return step_kernel

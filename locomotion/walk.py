@@ -109,7 +109,10 @@ def apply_envelope(
             (1.0 / vx_back, 1.0 / vy_max, 1.0 / w_max),
         )
         u = vel * inv
-        norm = np.sqrt(np.einsum("ij,ij->i", u, u))
+        u *= u
+        # u0 + u2, then + u1: the order of NumPy's einsum("ij,ij->i") on AVX2, which this
+        # replaced (einsum's order depends on the CPU's SIMD kernel; this is the same on all)
+        norm = np.sqrt((u[:, 0] + u[:, 2]) + u[:, 1])
     else:
         ux = vel[:, 0] / np.where(vel[:, 0] >= 0.0, vx_fwd, vx_back)
         norm = pm.power(

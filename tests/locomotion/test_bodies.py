@@ -374,3 +374,46 @@ def test_a_kick_aimed_beyond_kick_max_angle_does_not_start(t1) -> None:
     res = _run(b, [0, 0, 0], 1, kick=lambda i: (np.ones(len(aims), bool),
                                                 np.ones(len(aims)), aims))
     assert res[0].kick_now.all()
+
+
+def _noisy_walk(bodies: Bodies, rng: np.random.Generator, cycles: int) -> list[bytes]:
+    plan = np.random.default_rng(3)
+    out = []
+    for _ in range(cycles):
+        n = bodies.n
+        res = bodies.step(plan.uniform(-1.5, 1.5, (n, 3)), plan.random(n) < 0.1,
+                          plan.random(n), plan.uniform(-3, 3, n),
+                          np.where(plan.random(n) < 0.1, plan.uniform(0, 30, n), 0.0), rng)
+        out.append(res.odometry.tobytes() + res.fell.tobytes() + res.kick_distance.tobytes())
+    return out
+
+
+@pytest.mark.parametrize("copier", ["deepcopy", "pickle"])
+def test_a_copied_body_steps_on_as_the_original(copier) -> None:
+    # the compiled step keeps a handle on the generator it last drew from; a copy (pickled to a
+    # worker, or deep-copied) drops it and draws from the generator it is handed next
+    import copy
+    import pickle
+
+    profile = dataclasses.replace(load_profile("t1_mj"), odometry_noise=(0.05, 0.05, 0.05))
+    bodies = Bodies(profile, 6)
+    rng = np.random.default_rng(5)
+    _noisy_walk(bodies, rng, 40)
+    if copier == "deepcopy":
+        twin, twin_rng = copy.deepcopy((bodies, rng))
+    else:
+        twin, twin_rng = pickle.loads(pickle.dumps((bodies, rng)))
+    assert _noisy_walk(twin, twin_rng, 60) == _noisy_walk(bodies, rng, 60)
+
+
+def test_a_new_generator_is_drawn_from() -> None:
+    # an env reset hands the bodies a new generator: the step must draw from it, not the old
+    profile = dataclasses.replace(load_profile("t1_mj"), odometry_noise=(0.05, 0.05, 0.05))
+    bodies = Bodies(profile, 4)
+    first = np.random.default_rng(1)
+    _noisy_walk(bodies, first, 5)
+    state = first.bit_generator.state
+    second = np.random.default_rng(2)
+    _noisy_walk(bodies, second, 5)
+    assert first.bit_generator.state == state
+    assert second.bit_generator.state != np.random.default_rng(2).bit_generator.state
