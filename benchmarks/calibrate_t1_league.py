@@ -33,7 +33,13 @@ Sources, each optional (a parameter without a source keeps its value and provena
   (``command_jump_threshold``, ``command_jump_fall_probability``) fitted so that teamenv,
   playing the replays' pairings under this profile, falls as often as the league robots did,
   alone and near another robot (``benchmarks/league_fall_fit.py``; minutes of CPU per grid
-  point).
+  point);
+- **the kick's set-up** (``--fit-kick-setup``, with ``--replays``): ``kick_prep_time`` fitted
+  so that teamenv's kick set-up time (``teamenv.league.replay.kick_setups``: from the kicker's
+  last arrival within ``kick_reach`` of the ball to the contact) on the replays' pairings
+  has the league's median (``benchmarks/league_kick_setup_fit.py``; ``--fit-matches N``
+  plays the first N pairings only). ``--skip-getup`` keeps the get-up time and the fall
+  statistics measured before (a run for the set-up alone changes nothing else).
 """
 
 from __future__ import annotations
@@ -49,6 +55,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import league_fall_fit  # noqa: E402  (the sibling script)
+import league_kick_setup_fit  # noqa: E402  (the sibling script)
 
 ROOT = Path(__file__).resolve().parents[1]
 PROFILE = ROOT / "locomotion" / "profiles" / "t1_league.json"
@@ -300,6 +307,16 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--fit-grid", nargs="+", default=None, metavar="THRESHOLD:PROBABILITY",
                     help="the (threshold, probability) points to try (default: "
                     + " ".join(f"{t:g}:{p:g}" for t, p in league_fall_fit.GRID) + ")")
+    ap.add_argument("--skip-getup", action="store_true",
+                    help="with --replays: keep the get-up time and the fall statistics")
+    ap.add_argument("--fit-kick-setup", action="store_true",
+                    help="with --replays: fit kick_prep_time to the league kick's set-up time")
+    ap.add_argument("--fit-matches", type=int, default=None,
+                    help="--fit-kick-setup plays the pairings of the first N replays (default "
+                    "all)")
+    ap.add_argument("--fit-prep-grid", nargs="+", type=float, default=None, metavar="SECONDS",
+                    help="the kick_prep_time values to try (default: "
+                    + " ".join(f"{g:g}" for g in league_kick_setup_fit.GRID) + ")")
     ap.add_argument("--dry-run", action="store_true", help="print, write nothing")
     args = ap.parse_args(argv)
     profile = json.loads(Path(args.profile).read_text())
@@ -323,10 +340,11 @@ def main(argv: list[str] | None = None) -> int:
         params |= getup_parameters(Path(args.getup))
     if args.replays:
         replays = load_replays(Path(args.replays))
-        measurements["falls"] = fall_statistics(replays, Path(args.replays))
-        print("falls:", measurements["falls"])
-        # matches count the retries
-        params |= getup_from_replays(replays, Path(args.replays).name)
+        if not args.skip_getup:
+            measurements["falls"] = fall_statistics(replays, Path(args.replays))
+            print("falls:", measurements["falls"])
+            # matches count the retries
+            params |= getup_from_replays(replays, Path(args.replays).name)
         if args.fit_falls:
             # the fit plays under the profile as updated so far (the get-up time included)
             current = update_profile(profile, params, {})
@@ -336,8 +354,17 @@ def main(argv: list[str] | None = None) -> int:
                                                  source=Path(args.replays).name)
             params |= fitted
             measurements["fall_fit"] = record
-    elif args.fit_falls:
-        ap.error("--fit-falls needs --replays")
+        if args.fit_kick_setup:
+            # played under the profile as updated so far (the fitted falls included)
+            current = update_profile(profile, params, {})
+            fitted, record = league_kick_setup_fit.fit(
+                current, replays, args.fit_seconds,
+                grid=tuple(args.fit_prep_grid or league_kick_setup_fit.GRID),
+                seed0=args.fit_seed, matches=args.fit_matches, source=Path(args.replays).name)
+            params |= fitted
+            measurements["kick_setup_fit"] = record
+    elif args.fit_falls or args.fit_kick_setup:
+        ap.error("--fit-falls and --fit-kick-setup need --replays")
     updated = update_profile(profile, params, measurements)
     if params:
         # the description lists everything this script regenerated, in this run or before
@@ -359,6 +386,8 @@ def main(argv: list[str] | None = None) -> int:
             parts.append("the kick's largest angle off the heading from kick trials")
         if "command_jump_fall_probability" in regenerated:
             parts.append("the walk's falls fitted to league matches")
+        if "kick_prep_time" in regenerated:
+            parts.append("the kick's set-up time fitted to league matches")
         if "getup_duration" in regenerated:
             parts.append("get-up time from " + (
                 "league matches" if "league matches" in

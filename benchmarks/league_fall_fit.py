@@ -66,9 +66,10 @@ def pairings(replays: Sequence[Any]) -> list[tuple[str, str]]:
     return [(str(r.metadata["left"]), str(r.metadata["right"])) for r in replays]
 
 
-def play_rates(profile_path: Path, matches: Sequence[tuple[str, str]], seconds: float,
-               team_size: int, seed0: int, folder: Path) -> dict[str, float]:
-    """Falls per robot-minute when teamenv plays ``matches`` under the profile file."""
+def play_replays(profile_path: Path, matches: Sequence[tuple[str, str]], seconds: float,
+                 team_size: int, seed0: int, folder: Path) -> list[Any]:
+    """The replays of teamenv playing ``matches`` under the profile file (the study's
+    options, ``seconds`` each, seeds from ``seed0``; the files in ``folder`` are removed)."""
     from teamenv.match import play_match
     from teamenv.replay import load_replay
     from teamenv.tournament.spec import parse_team_spec
@@ -85,7 +86,13 @@ def play_rates(profile_path: Path, matches: Sequence[tuple[str, str]], seconds: 
                              f"{result.forfeit}")
         replays.append(load_replay(path))
         path.unlink()
-    return fall_rates(replays)
+    return replays
+
+
+def play_rates(profile_path: Path, matches: Sequence[tuple[str, str]], seconds: float,
+               team_size: int, seed0: int, folder: Path) -> dict[str, float]:
+    """Falls per robot-minute when teamenv plays ``matches`` under the profile file."""
+    return fall_rates(play_replays(profile_path, matches, seconds, team_size, seed0, folder))
 
 
 def _error(rates: dict[str, float], target: dict[str, float]) -> float:

@@ -105,6 +105,106 @@ def down_times(replay: Any, cycle_s: float) -> tuple[np.ndarray, int]:
     return np.asarray(times, float), open_at_end
 
 
+#: play modes in which no kick is set up: before the kick-off, after a goal, at the end
+NOT_IN_PLAY = (0, 10, 11, 12)   # PlayMode BeforeKickOff, Goal_Left, Goal_Right, GameOver
+#: a ball at least this fast (m/s) when the set-up began "came to" the kicker
+BALL_MOVING_M_S = 0.2
+
+
+@dataclass(frozen=True)
+class KickSetup:
+    """One kick's set-up in a replay (league or teamenv): the kick's row and player (0..2N-1,
+    left team first), the row its set-up began (``None``: not measured, ``why`` says
+    why), the set-up time ``seconds`` (``None`` likewise) and the ball's speed when it began.
+    ``why``: ``"arrival"`` (the kicker came within reach), ``"previous kick"`` (it stayed
+    within reach since its own previous kick, where this set-up began), ``"start"`` (within
+    reach from the replay's first row), or, unmeasured, ``"out of reach"``, ``"down"``,
+    ``"not in play"`` (the kicker's state in the row before the kick)."""
+
+    row: int
+    player: int
+    start: int | None
+    seconds: float | None
+    why: str
+    ball_speed: float
+
+
+def kick_setups(replay: Any, reach: float, cycle_s: float | None = None) -> list[KickSetup]:
+    """Each kick's **set-up time** in ``replay``: from the row the kicker last came within
+    ``reach`` (m, torso or body centre to ball centre) of the ball and stayed there, upright
+    and in play, until the kick's row (the foot-ball contact).
+
+    The set-up is the unbroken run of rows before the kick row in which the kicker was
+    within ``reach``, not fallen (``replay.fallen``) and the play mode was not
+    ``NOT_IN_PLAY``; it ends in the row before the kick and begins at the run's first row, or
+    the row after the kicker's own previous kick when the run goes back past that (a kick
+    that left the ball within reach starts the next set-up). The time is (kick row - first
+    row) x ``cycle_s`` (the replay's by default). Whatever moved the ball into reach counts,
+    the kicker walking or the ball rolling (``ball_speed`` tells them apart). A kick whose
+    kicker, in the row before it, was out of reach, down or out of play has no set-up
+    (``seconds`` None): the league recorder counts a contact within 10 cycles of a kick
+    request as a kick, wherever the robot stood."""
+    if cycle_s is None:
+        cycle_s = float(replay.metadata["cycle_s"])
+    if replay.kick_cycle is None or not len(replay.kick_cycle):
+        return []
+    ball = np.asarray(replay.ball, np.float64)
+    players = np.asarray(replay.players, np.float64)
+    fallen = np.asarray(replay.fallen, bool) if replay.fallen is not None else \
+        np.zeros(players.shape[:2], bool)
+    in_play = ~np.isin(np.asarray(replay.play_mode), NOT_IN_PLAY)
+    previous: dict[int, int] = {}
+    out = []
+    for row, player in zip(replay.kick_cycle.tolist(), replay.kick_player.tolist(),
+                           strict=True):
+        row, player = int(row), int(player)
+        floor = previous.get(player, -1) + 1   # the first row after its previous kick
+        previous[player] = row
+        if row < 1:
+            out.append(KickSetup(row, player, None, None, "start", 0.0))
+            continue
+        d = np.hypot(*(ball[:row, :2] - players[:row, player, :2]).T)
+        ok = (d <= reach) & ~fallen[:row, player] & in_play[:row]
+        last = row - 1
+        if not ok[last]:
+            why = ("not in play" if not in_play[last] else "down" if fallen[last, player]
+                   else "out of reach")
+            out.append(KickSetup(row, player, None, None, why, 0.0))
+            continue
+        gaps = np.flatnonzero(~ok[floor:row])   # rows of the window that break the run
+        start = floor + (int(gaps[-1]) + 1 if len(gaps) else 0)
+        why = "arrival" if len(gaps) else "previous kick" if floor > 0 else "start"
+        out.append(KickSetup(row, player, start, (row - start) * cycle_s, why,
+                             float(np.hypot(*ball[start, 2:4]))))
+    return out
+
+
+def kick_setup_summary(setups: list[KickSetup]) -> dict[str, Any]:
+    """Count, mean, median, standard deviation and quartiles (s) of the measured set-up
+    times in ``setups``, how many began at an arrival, at a previous kick or the start, how
+    many with the ball moving, and how many kicks were left out, by why."""
+    times = np.array([s.seconds for s in setups if s.seconds is not None], float)
+    left_out: dict[str, int] = {}
+    began: dict[str, int] = {}
+    for s in setups:
+        into = began if s.seconds is not None else left_out
+        into[s.why] = into.get(s.why, 0) + 1
+    out: dict[str, Any] = {"kicks": len(setups), "n": int(len(times)), "began": began,
+                           "left_out": left_out,
+                           "ball_moving": sum(s.seconds is not None
+                                              and s.ball_speed >= BALL_MOVING_M_S
+                                              for s in setups)}
+    if len(times):
+        q10, q25, q75, q90 = np.percentile(times, [10, 25, 75, 90])
+        out |= {"mean_s": round(float(times.mean()), 3),
+                "median_s": round(float(np.median(times)), 3),
+                "std_s": round(float(times.std(ddof=1)), 3) if len(times) > 1 else 0.0,
+                "p10_s": round(float(q10), 3), "p25_s": round(float(q25), 3),
+                "p75_s": round(float(q75), 3), "p90_s": round(float(q90), 3),
+                "max_s": round(float(times.max()), 3)}
+    return out
+
+
 class LeagueReplayRecorder:
     """Records a ``LocalServer`` match; ``record(game, kicking, said)`` once per cycle (after
     the perceptions), ``save(path, metadata)`` at the end.
