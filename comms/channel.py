@@ -307,6 +307,8 @@ class Channel:
             raise ChannelError(
                 f"positions must be ({n}, 2) and headings ({n},), got {pos.shape} and {hd.shape}"
             )
+        if not by_volume:
+            return self._hear_by_capacity(spk, text_arr, illegal, np.ascontiguousarray(pos), hd)
         x, y = pos[:, 0], pos[:, 1]
         rel = (x[spk][:, None] - x, y[spk][:, None] - y)  # listener -> speaker, (S, N) each
         dist = np.hypot(*rel)
@@ -318,9 +320,7 @@ class Channel:
             if not in_range.all():
                 chunks.append((~in_range, REASON_OUT_OF_RANGE))
         routing = _Routing(spk, text_arr, illegal, chunks, rel, dist, hd, in_range)
-        if by_volume:
-            return self._hear_by_loudness(routing, volumes, rng)
-        return self._hear_by_capacity(routing)
+        return self._hear_by_loudness(routing, volumes, rng)
 
     def _hear_by_loudness(
         self, routing: _Routing, volumes: list[float], rng: np.random.Generator
@@ -381,48 +381,46 @@ class Channel:
                 si = si[keep]
         return self._assemble_pairs(routing, masks, si, li)
 
-    def _hear_by_capacity(self, routing: _Routing) -> Delivery:
+    def _hear_by_capacity(self, speakers: np.ndarray, texts: np.ndarray, illegal: list[Drop],
+                          positions: np.ndarray, headings: np.ndarray) -> Delivery:
         """`simspark`: within range, then per-listener hearing capacity in arrival order, per
         sender class (teammates, opponents); per listener its own message, then teammates',
-        then opponents', at most `max_heard` (`comms.capacity_kernel`)."""
+        then opponents', at most `max_heard`; ranges, slots and directions in one compiled
+        loop (`comms.capacity_kernel`)."""
         prof = self.profile
         cap = prof.capacity
-        rel = routing.rel
         n = self.n_agents
         size = n * prof.max_heard
         pair_ids = np.empty((2, size), dtype=np.intp)
         pair_flags = np.empty((2, size), dtype=bool)
-        pair_offsets = np.empty((2, size))
-        over = np.zeros((2, len(routing.speakers), n), dtype=bool)
-        count, any_over_capacity, any_over_max = _capacity_kernel()(
-            routing.speakers, self.teams, routing.dist, float(prof.hearing_range_m), rel[0],
-            rel[1], self._cap, 0 if cap is None else int(cap.cost), bool(prof.self_echo),
-            int(prof.max_heard), pair_ids, pair_flags, pair_offsets, over)
-        chunks = routing.chunks
+        directions = np.empty(size)
+        # messages out of range, over capacity, over max_heard: (speaker slot, listener)
+        masks = np.zeros((3, len(speakers), n), dtype=bool)
+        count, any_out, any_over_capacity, any_over_max = _capacity_kernel()(
+            speakers, self.teams, positions, headings, float(prof.hearing_range_m), self._cap,
+            0 if cap is None else int(cap.cost), bool(prof.self_echo), int(prof.max_heard),
+            float(prof.direction_quantum_deg), pair_ids, pair_flags, directions, masks[0],
+            masks[1:])
+        chunks = []
+        if any_out:
+            chunks.append((masks[0], REASON_OUT_OF_RANGE))
         if any_over_capacity:
-            chunks.append((over[0], REASON_CAPACITY))
+            chunks.append((masks[1], REASON_CAPACITY))
         if any_over_max:
-            chunks.append((over[1], REASON_MAX_HEARD))
-        li, si = pair_ids[0, :count], pair_ids[1, :count]
-        pair_self, pair_mate = pair_flags[0, :count], pair_flags[1, :count]
-        dy, dx = pair_offsets[0, :count], pair_offsets[1, :count]
-        return self._assemble(routing, si, li, pair_self, pair_mate, dy, dx, True)
+            chunks.append((masks[2], REASON_MAX_HEARD))
+        si = pair_ids[1, :count]
+        pairs = (pair_ids[0, :count], speakers[si], texts[si], directions[:count],
+                 pair_flags[0, :count], pair_flags[1, :count])
+        return Delivery(None, illegal, (speakers, chunks), pairs, n, True)
 
     def _assemble_pairs(
         self, routing: _Routing, masks: np.ndarray, si: np.ndarray, li: np.ndarray
     ) -> Delivery:
-        """`_assemble` for (speaker slot, listener) pairs picked by `_hear_by_loudness`."""
-        rel = routing.rel
-        return self._assemble(routing, si, li, masks[0][si, li], masks[1][si, li],
-                              rel[1][si, li], rel[0][si, li])
-
-    def _assemble(
-        self, routing: _Routing, si: np.ndarray, li: np.ndarray, pair_self: np.ndarray,
-        teammate: np.ndarray, rel_y: np.ndarray, rel_x: np.ndarray, grouped: bool = False
-    ) -> Delivery:
-        """Build the Delivery from (speaker slot, listener) pairs sorted per listener, with
-        whether each is the listener's own message, from its team, and the listener ->
-        speaker offset."""
+        """Build the Delivery from the (speaker slot, listener) pairs `_hear_by_loudness`
+        picked, sorted per listener: whether each is the listener's own message, from its
+        team, and the direction it is heard from."""
+        rel_x, rel_y = routing.rel[0][si, li], routing.rel[1][si, li]
+        pair_self = masks[0][si, li]
         ang = pm.arctan2(rel_y, rel_x) - routing.headings[li]
         ang = (ang + math.pi) % _TWO_PI - math.pi
         q = self.profile.direction_quantum_deg
@@ -430,16 +428,8 @@ class Channel:
             ang = np.trunc(ang * (180.0 / math.pi / q)) * (q * math.pi / 180.0)
         ang[pair_self] = 0.0
         spk = routing.speakers
-        pairs = (
-            li,
-            spk[si],
-            routing.texts[si],
-            ang,
-            pair_self,
-            teammate,
-        )
-        return Delivery(None, routing.illegal, (spk, routing.chunks), pairs, self.n_agents,
-                        grouped)
+        pairs = (li, spk[si], routing.texts[si], ang, pair_self, masks[1][si, li])
+        return Delivery(None, routing.illegal, (spk, routing.chunks), pairs, self.n_agents)
 
 
 def make_channel(
