@@ -103,3 +103,20 @@ def fill_heard(listener: np.ndarray, is_self: np.ndarray, teammate: np.ndarray,
         heard[li, s, 1] = 1.0 if is_self[k] else 0.0
         heard[li, s, 2] = 1.0 if teammate[k] else 0.0
         heard[li, s, 3] = direction[k]
+
+
+@numba.njit(cache=True, error_model="numpy")
+def world_velocities(delta: np.ndarray, poses: np.ndarray, dt: float, out: np.ndarray) -> None:
+    """The world-frame velocity of each body that moved ``delta`` (n, 3), body frame at the
+    cycle's start, over ``dt``: ``out`` (n, 3) = ((c dx - s dy) / dt, (s dx + c dy) / dt,
+    dpsi / dt), c, s the cosine and sine of the heading ``poses[:, 2]`` (the C library's, as
+    NumPy's float64 ``cos``/``sin``)."""
+    for i in range(delta.shape[0]):
+        h = poses[i, 2]
+        c = math.cos(h)
+        s = math.sin(h)
+        dx = delta[i, 0]
+        dy = delta[i, 1]
+        out[i, 0] = (c * dx - s * dy) / dt
+        out[i, 1] = (s * dx + c * dy) / dt
+        out[i, 2] = delta[i, 2] / dt

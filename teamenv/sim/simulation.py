@@ -22,8 +22,6 @@ from teamenv.sim.referee import Referee, RefereeEvent
 from teamenv.sim.vision import VisionPerception
 from teamenv.sim.world import World, wrap_angle
 
-_MINUS_PLUS = np.array([-1.0, 1.0])
-
 
 @functools.cache
 def _fill_heard():
@@ -32,6 +30,14 @@ def _fill_heard():
     from teamenv.sim.kernels import fill_heard
 
     return fill_heard
+
+
+@functools.cache
+def _world_velocities():
+    """The compiled body -> world velocity kernel (imported on the first step, as above)."""
+    from teamenv.sim.kernels import world_velocities
+
+    return world_velocities
 
 #: Phases of a cycle timed by ``Simulation`` (see ``Simulation.phase_s``).
 SIM_PHASES = ("beam", "locomotion", "kick", "physics", "referee", "comms", "perception")
@@ -184,17 +190,8 @@ class Simulation:
         kick_request = cmd.kick_power > 0.0
         res = self.bodies.step(cmd.walk, kick_request, cmd.kick_power, cmd.kick_dir,
                                self.world.impacts.copy(), self.rng, dt=dt)
-        delta = np.asarray(res.delta_pose, dtype=float)
-        h = poses[:, 2]
-        cos_h, sin_h = np.cos(h), np.sin(h)
         velocity = np.empty((self.n, 3))
-        # World-frame velocity: vx = (c dx - s dy) / dt, vy = (s dx + c dy) / dt, as
-        # (c dx + -(s dy), c dy + s dx) in two columns at once (the same IEEE results).
-        turned = sin_h[:, None] * delta[:, 1::-1]
-        turned *= _MINUS_PLUS
-        turned += cos_h[:, None] * delta[:, :2]
-        velocity[:, :2] = turned / dt
-        velocity[:, 2] = delta[:, 2] / dt
+        _world_velocities()(res.delta_pose, poses, dt, velocity)
         t2 = clock()
         acc["locomotion"] += t2 - t1
 
@@ -205,7 +202,7 @@ class Simulation:
         touchers.extend(self.world.touches)
         if self.obs_mode.is_vision:
             self.odometry = np.asarray(res.odometry, dtype=float)
-            self.turn = wrap_angle(self.world.player_poses()[:, 2] - h)
+            self.turn = wrap_angle(self.world.player_poses()[:, 2] - poses[:, 2])
         t4 = clock()
         acc["physics"] += t4 - t3
 
