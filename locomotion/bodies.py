@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import copy
 import math
 from dataclasses import dataclass
 
@@ -17,6 +16,7 @@ __all__ = ["Bodies", "StepResult"]
 
 _EPS = 1e-9
 _object_new = object.__new__
+_NO_DRAWS = np.empty(0)
 
 
 @dataclass(frozen=True)
@@ -111,8 +111,8 @@ class Bodies:
         self._odo_noisy = bool(np.any(self._odo_noise > 0))
         self._params = self._kernel_params()
         self._tables = _padded_tables(p.tracking)
-        self._rng: np.random.Generator | None = None
-        self._rng_box = None  # the compiled step's handle on _rng
+        self._vectors = np.array([self._dv, self._lim_fwd, self._lim_back, self._odo_scale],
+                                 dtype=np.float64)
         self.reset()
 
     def _kernel_params(self) -> np.ndarray:
@@ -125,7 +125,7 @@ class Bodies:
             p.command_jump_threshold, p.command_jump_fall_probability, self._down_time,
             self._kick_sigma, max_angle, p.kick_prep_time, p.kick_duration,
             p.kick_distance_mean, p.kick_distance_std, p.kick_distance_min,
-            p.kick_distance_max, float(self._odo_noisy)], dtype=np.float64)
+            p.kick_distance_max], dtype=np.float64)
 
     # ------------------------------------------------------------------ state
     def reset(self) -> None:
@@ -139,7 +139,9 @@ class Bodies:
         self.kick_aim = np.zeros(n)
         self._push = np.zeros((n, 2))
         self._pushed = False
-        self._counts = np.zeros(2, dtype=np.int64)  # bodies down, bodies kicking
+        self._counts = np.zeros(9, dtype=np.int64)  # bodies down, kicking; the stages' flags
+        self._flags = np.zeros((3, n), dtype=bool)  # the stages' per-body flags
+        self._scratch = np.zeros((4, n))  # the stages' per-body numbers
         self._cache = np.zeros((n, 3))  # displacement over _cache_dt at the current velocities
         self._cache_dt = np.full(1, -1.0)  # -1: the cache is invalid
         self._all_true = np.ones(n, dtype=bool)
@@ -209,20 +211,17 @@ class Bodies:
 
         The steps below run in this order, and so draw from ``rng`` in this order: falls from
         collisions and pushes, kick starts, the walk (and falls from command jumps at step
-        boundaries), kick contact, odometry noise, fall timers. One compiled call
-        (``step_kernel.step_bodies``) runs them all.
+        boundaries), kick contact, odometry noise, fall timers. A compiled kernel
+        (``step_kernel.step_bodies``) runs them, stopping where it needs random numbers that
+        depend on its own work so far; they are drawn here and it goes on.
         """
         walk_cmd, kick_request, kick_power, kick_dir, impacts = self._checked(
             walk_cmd, kick_request, kick_power, kick_dir, impacts, dt
         )
-        if rng is not self._rng:
-            self._rng = rng
-            self._rng_box = _kernel().rng_box(rng)
-        elif self._rng_box is None:  # after unpickling or copying
-            self._rng_box = _kernel().rng_box(rng)
+        k = _kernel()
         pushed = self._pushed
-        push_fell = self._push_fell(self.down_left <= 0.0 if self._counts[0] else self._all_true) \
-            if pushed else self._all_false
+        push_fell = self._push_fell(self.down_left <= 0.0 if self._counts[k.C_DOWN] else
+                                    self._all_true) if pushed else self._all_false
         n = self.n
         delta = np.empty((n, 3))
         odometry = np.empty((n, 3))
@@ -232,13 +231,29 @@ class Bodies:
         fallen = np.empty(n, dtype=bool)
         fell = np.empty(n, dtype=bool)
         can_act = np.empty(n, dtype=bool)
-        _kernel().step_bodies(
-            self._rng_box, walk_cmd, kick_request, kick_power, kick_dir, impacts, push_fell,
-            pushed, float(dt), self._params, self._tables, self._dv, self._lim_fwd,
-            self._lim_back, self._odo_scale, self._odo_noise, self.velocity, self.phase,
-            self.down_left, self.kick_elapsed, self.kick_power, self.kick_aim, self._cache,
-            self._cache_dt, self._counts, delta, odometry, kick_now, kick_distance,
-            kick_direction, fallen, fell, can_act)
+        # the draws, in the NumPy step's order: impacts (known now), command jumps and kicks
+        # (when the kernel asks), odometry noise (last)
+        draws = rng.random(n) if impacts.max() > self._j_lo else _NO_DRAWS
+        stage = k.START
+        while True:
+            stage = k.step_bodies(
+                stage, draws, walk_cmd, kick_request, kick_power, kick_dir, impacts, push_fell,
+                pushed, float(dt), self._params, self._tables, self._vectors, self.velocity,
+                self.phase, self.down_left, self.kick_elapsed, self.kick_power, self.kick_aim,
+                self._cache, self._cache_dt, self._counts, self._flags, self._scratch, delta,
+                odometry, kick_now, kick_distance, kick_direction, fallen, fell, can_act)
+            if stage == k.NEED_JUMP_DRAWS:
+                draws, stage = rng.random(n), k.AFTER_JUMP_DRAWS
+            elif stage == k.NEED_KICK_DRAWS:
+                p, kicks = self.profile, int(self._counts[k.F_KICKS])
+                draws = np.concatenate((rng.normal(p.kick_distance_mean, p.kick_distance_std,
+                                                   kicks),
+                                        rng.normal(0.0, self._kick_sigma, kicks)))
+                stage = k.AFTER_KICK_DRAWS
+            else:
+                break
+        if self._odo_noisy:
+            odometry *= 1.0 + self._odo_noise * rng.standard_normal((n, 3))
         # = StepResult(...), without the frozen dataclass's nine object.__setattr__ calls
         result = _object_new(StepResult)
         result.__dict__.update(
@@ -294,18 +309,6 @@ class Bodies:
         self._push[:] = 0.0
         self._pushed = False
         return fell
-
-    def __getstate__(self) -> dict:
-        state = self.__dict__.copy()
-        state["_rng_box"] = None  # a numba typed list: rebuilt on the next step
-        return state
-
-    def __deepcopy__(self, memo: dict) -> Bodies:
-        state = self.__getstate__()
-        new = _object_new(Bodies)
-        memo[id(self)] = new
-        new.__dict__.update(copy.deepcopy(state, memo))
-        return new
 
 
 def _padded_tables(tracking: tuple[tuple[np.ndarray, np.ndarray], ...]) -> np.ndarray:

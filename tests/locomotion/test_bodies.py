@@ -390,8 +390,8 @@ def _noisy_walk(bodies: Bodies, rng: np.random.Generator, cycles: int) -> list[b
 
 @pytest.mark.parametrize("copier", ["deepcopy", "pickle"])
 def test_a_copied_body_steps_on_as_the_original(copier) -> None:
-    # the compiled step keeps a handle on the generator it last drew from; a copy (pickled to a
-    # worker, or deep-copied) drops it and draws from the generator it is handed next
+    # a body pickled to a worker or deep-copied carries the compiled step's state (counters,
+    # caches, the stages' scratch) with it
     import copy
     import pickle
 
@@ -407,7 +407,7 @@ def test_a_copied_body_steps_on_as_the_original(copier) -> None:
 
 
 def test_a_new_generator_is_drawn_from() -> None:
-    # an env reset hands the bodies a new generator: the step must draw from it, not the old
+    # an env reset hands the bodies a new generator: every draw comes from the one handed in
     profile = dataclasses.replace(load_profile("t1_mj"), odometry_noise=(0.05, 0.05, 0.05))
     bodies = Bodies(profile, 4)
     first = np.random.default_rng(1)
