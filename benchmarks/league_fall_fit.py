@@ -69,7 +69,8 @@ def pairings(replays: Sequence[Any]) -> list[tuple[str, str]]:
 def play_replays(profile_path: Path, matches: Sequence[tuple[str, str]], seconds: float,
                  team_size: int, seed0: int, folder: Path) -> list[Any]:
     """The replays of teamenv playing ``matches`` under the profile file (the study's
-    options, ``seconds`` each, seeds from ``seed0``; the files in ``folder`` are removed)."""
+    options, ``seconds`` each, seeds from ``seed0``; the files in ``folder`` are removed).
+    No stall timeout: a measurement on a busy machine must not turn into a forfeit."""
     from teamenv.match import play_match
     from teamenv.replay import load_replay
     from teamenv.tournament.spec import parse_team_spec
@@ -80,7 +81,8 @@ def play_replays(profile_path: Path, matches: Sequence[tuple[str, str]], seconds
         a, b = parse_team_spec(left), parse_team_spec(right)
         path = folder / f"fit-{k:03d}.npz"
         result = play_match(a.name, b.name, seed0 + k, options, left_config=dict(a.config),
-                            right_config=dict(b.config), replay_path=path)
+                            right_config=dict(b.config), replay_path=path,
+                            stall_timeout_s=None)
         if result.forfeit is not None:
             raise SystemExit(f"fit: {left} v {right} (seed {seed0 + k}) forfeited: "
                              f"{result.forfeit}")

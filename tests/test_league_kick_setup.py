@@ -152,7 +152,8 @@ def test_the_calibration_command_writes_the_fitted_prep_time(tmp_path, monkeypat
     assert entry["kind"] == "measured"
     assert entry["source"].startswith(cal.SCRIPT + " --fit-kick-setup")
     assert "4 kicks of 2 league matches in replays" in entry["source"]
-    assert entry["note"] == "replaces 0.5 (hand-entered)"
+    before = PROFILE["parameters"]["kick_prep_time"]
+    assert entry["note"] == f"replaces {before['value']!r} ({before['kind']})"
     assert written["parameters"]["getup_duration"] == PROFILE["parameters"]["getup_duration"]
     assert "kick_setup_fit" in written["measurements"]["league_client"]
     assert "set-up time fitted" in written["description"]

@@ -19,10 +19,10 @@ FIELDS = ("delta_pose", "velocity", "odometry", "kick_now", "kick_distance", "ki
 STATE = ("velocity", "phase", "down_left", "kick_elapsed", "kick_power", "kick_aim")
 
 #: digests recorded with ``Bodies.step`` of commit 2f8de72, 22 bodies, 600 cycles (t1_league's
-#: re-recorded when its fall numbers were fitted to league matches: the profile changed)
+#: re-recorded when its fall numbers, then its kick_prep_time, were fitted to league matches)
 RECORDED = {
     "nao_simspark": "a6b66e4edd984e266f3af0194de04eedbd04e6a0f4ffdb5b547e888da3130665",
-    "t1_league": "aa0159eb8c13cd031f37a2e21bdcb4594eebc81b468e9087c08e068d6751153d",
+    "t1_league": "32ebd139bdccb6468c0a7e6e739cba4939fe244d8d909483356bd34a4f116a00",
     "t1_lipm": "3bb94cc500c80adb73a113c5d762eb77bdcbff0207f37917c2effd8cdf21adc6",
     "t1_mj": "6d6922e03e557cfd8070a070d5da11c23051c5c2d0e533287c818d05da0b0101",
     "t1_mj_p3": "c47cbb7277f5948d7a3d896ef51ec1c6d4240225d49fa3d3f533d0f5c83a3e3d",
