@@ -50,7 +50,7 @@ S_TB, S_VX, S_VY, S_VW = range(4)
 START, AFTER_JUMP_DRAWS, AFTER_KICK_DRAWS, NEED_JUMP_DRAWS, NEED_KICK_DRAWS, DONE = range(6)
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _interp(x: float, xp: np.ndarray, fp: np.ndarray) -> float:
     """``np.interp(x, xp, fp)`` for one value, as NumPy's C loop computes it."""
     n = xp.shape[0]
@@ -82,7 +82,7 @@ def _interp(x: float, xp: np.ndarray, fp: np.ndarray) -> float:
     return out
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _envelope_scale(vx: float, vy: float, w: float, prm: np.ndarray) -> float:
     """1 / max(||u||_p, 1) of ``walk.apply_envelope`` (p = 2: ``einsum``'s order, u0² + u2²
     first, then u1²)."""
@@ -101,7 +101,7 @@ def _envelope_scale(vx: float, vy: float, w: float, prm: np.ndarray) -> float:
     return 1.0 / max(norm, 1.0)
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _omni(vx: float, vy: float, w: float, tau: float, out: np.ndarray, i: int) -> None:
     """``walk.omni_displacement`` of one body into ``out[i]``."""
     theta = w * tau
@@ -148,7 +148,7 @@ def step_bodies(stage, draws, walk_cmd, kick_request, kick_power_in, kick_dir, i
     return DONE
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _start(draws, walk_cmd, kick_request, kick_power_in, kick_dir, impacts, push_fell, pushed,
            dt, prm, tables, vectors, velocity, phase, down_left, kick_elapsed, kick_power,
            kick_aim, cache, cache_dt, counts, flags, scratch, fell) -> bool:
@@ -250,7 +250,7 @@ def _start(draws, walk_cmd, kick_request, kick_power_in, kick_dir, impacts, push
     return any_risky
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _walk(draws, dt, prm, velocity, phase, kick_elapsed, cache, cache_dt, counts, flags,
           scratch, delta, kick_now, fell) -> bool:
     """Falls from command jumps (``draws``: their uniforms, or empty), the displacement over
@@ -329,7 +329,7 @@ def _walk(draws, dt, prm, velocity, phase, kick_elapsed, cache, cache_dt, counts
     return kicks > 0
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _finish(draws, dt, prm, vectors, down_left, kick_elapsed, kick_power, kick_aim, counts,
             delta, odometry, kick_now, kick_distance, kick_direction, fallen, fell, can_act):
     """The kicks' distances and directions (``draws``: k distance normals, then k direction
