@@ -148,6 +148,18 @@ class Bodies:
         self._all_false = np.zeros(n, dtype=bool)
         self._all_true.setflags(write=False)
         self._all_false.setflags(write=False)
+        # writable like the masks of real pushes: numba compiles per array type (read-only
+        # is another), and a second compile would land in a match's cycle
+        self._no_push = np.zeros(n, dtype=bool)
+
+    def prepare(self) -> None:
+        """Compile the step's kernel now (or load it from numba's disk cache), for the array
+        types the env hands it, on a throwaway body: the first compile takes seconds, which
+        should not fall into a match's cycle (its stall watchdog times each one). Touches
+        nothing of this body and no generator of the caller's."""
+        n = self.n
+        Bodies(self.profile, n).step(np.zeros((n, 3)), np.zeros(n, dtype=bool), np.zeros(n),
+                                     np.zeros(n), np.zeros(n), np.random.default_rng(0))
 
     @property
     def fallen(self) -> np.ndarray:
@@ -221,7 +233,7 @@ class Bodies:
         k = _kernel()
         pushed = self._pushed
         push_fell = self._push_fell(self.down_left <= 0.0 if self._counts[k.C_DOWN] else
-                                    self._all_true) if pushed else self._all_false
+                                    self._all_true) if pushed else self._no_push
         n = self.n
         delta = np.empty((n, 3))
         odometry = np.empty((n, 3))

@@ -126,6 +126,7 @@ class Simulation:
         self.cycle = 0
         self.rng = np.random.default_rng(0)
         self.channel_rng = np.random.default_rng(0)
+        self._kernels_ready = False
         self._clear_heard()
         self.profile_phases = bool(profile_phases)
         # float() returns 0.0: with profiling off every phase adds 0 and the clock is not read.
@@ -157,6 +158,8 @@ class Simulation:
         self.bodies.reset()
         self.referee.reset()
         self.channel.reset()
+        if not self._kernels_ready:
+            self._prepare_kernels()
         if self.world.stepped:
             # pymunk keeps contacts and its spatial index across steps: a reused space would
             # make reset(seed) differ from a fresh env's first episode in the last bits
@@ -164,6 +167,25 @@ class Simulation:
         self.referee.place_for_start(self.world)
         self.world.impacts[:] = 0.0
         self._clear_heard()
+
+    def _prepare_kernels(self) -> None:
+        """Compile the cycle's numba kernels (or load them from numba's disk cache) at the
+        first reset, with the array types a cycle hands them, on throwaway data: a cold
+        compile takes seconds, and a match's stall watchdog interrupts a cycle that runs over
+        its limit (an interrupted compile also leaves numba without the function). Draws from
+        no generator of the match's and changes nothing of its state."""
+        self._kernels_ready = True
+        n = self.n
+        self.bodies.prepare()
+        poses = self.world.player_poses()  # read-only, as every cycle's
+        _world_velocities()(np.zeros((n, 3)), poses, self.physics.cycle_s, np.empty((n, 3)))
+        profile = self.channel.profile
+        text = "AA==" if profile.base64_payload else profile.charset[0]
+        channel = comms.Channel(profile, n, self.team_of)
+        channel.deliver_texts([text] * n, poses[:, :2], poses[:, 2], np.random.default_rng(0))
+        _fill_heard()(np.zeros(1, dtype=np.intp), np.zeros(1, dtype=bool),
+                      np.zeros(1, dtype=bool), np.zeros(1),
+                      np.zeros((n, self.heard_slots, HEARD_DIM)), np.empty(1, dtype=np.intp))
 
     def _clear_heard(self) -> None:
         # What each listener heard this cycle, in slot order (0 self, 1 teammate, 2 opponent
