@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -90,42 +89,28 @@ class Bodies:
         self.n = int(n_players)
         p = profile
         self._T = float(p.step_period)
-        self._env = (
-            p.envelope_vx_forward,
-            p.envelope_vx_backward,
-            p.envelope_vy,
-            p.envelope_turn,
-            p.envelope_exponent,
-        )
-        self._dv = np.asarray(p.accel) * self._T  # max velocity change per step
-        self._lim_fwd = np.array([p.envelope_vx_forward, p.envelope_vy, p.envelope_turn])
-        self._lim_back = np.array([p.envelope_vx_backward, p.envelope_vy, p.envelope_turn])
         self._j_lo = p.impact_fall_impulse_low
-        self._j_hi = p.impact_fall_impulse_high
-        self._down_time = p.fall_duration + p.getup_duration
         self._kick_sigma = p.kick_direction_std
-        # None: every aim kicks (the omnidirectional kick; no extra work per kick)
-        self._kick_max_angle = p.kick_max_angle if p.kick_max_angle < math.pi else None
-        self._odo_scale = np.asarray(p.odometry_scale, dtype=np.float64)
         self._odo_noise = np.asarray(p.odometry_noise, dtype=np.float64)
         self._odo_noisy = bool(np.any(self._odo_noise > 0))
-        self._params = self._kernel_params()
+        # the profile's numbers the compiled step reads, in ``step_kernel``'s P_* order (a
+        # kick_max_angle of pi or more: every aim kicks, the kernel skips the test)
+        self._params = np.array([
+            self._T, p.envelope_vx_forward, p.envelope_vx_backward, p.envelope_vy,
+            p.envelope_turn, p.envelope_exponent, self._j_lo, p.impact_fall_impulse_high,
+            p.command_jump_threshold, p.command_jump_fall_probability,
+            p.fall_duration + p.getup_duration, self._kick_sigma, p.kick_max_angle,
+            p.kick_prep_time, p.kick_duration, p.kick_distance_mean, p.kick_distance_std,
+            p.kick_distance_min, p.kick_distance_max], dtype=np.float64)
+        # its V_* rows: max velocity change per step, the envelope's forward and backward
+        # limits (vx, vy, turn), the odometry scale
+        self._vectors = np.array([
+            np.asarray(p.accel) * self._T,
+            [p.envelope_vx_forward, p.envelope_vy, p.envelope_turn],
+            [p.envelope_vx_backward, p.envelope_vy, p.envelope_turn],
+            p.odometry_scale], dtype=np.float64)
         self._tables = _padded_tables(p.tracking)
-        self._vectors = np.array([self._dv, self._lim_fwd, self._lim_back, self._odo_scale],
-                                 dtype=np.float64)
         self.reset()
-
-    def _kernel_params(self) -> np.ndarray:
-        """The profile's numbers the compiled step reads, in ``step_kernel``'s P_* order."""
-        p = self.profile
-        vx_fwd, vx_back, vy, turn, exponent = self._env
-        max_angle = self._kick_max_angle if self._kick_max_angle is not None else math.pi
-        return np.array([
-            self._T, vx_fwd, vx_back, vy, turn, exponent, self._j_lo, self._j_hi,
-            p.command_jump_threshold, p.command_jump_fall_probability, self._down_time,
-            self._kick_sigma, max_angle, p.kick_prep_time, p.kick_duration,
-            p.kick_distance_mean, p.kick_distance_std, p.kick_distance_min,
-            p.kick_distance_max], dtype=np.float64)
 
     # ------------------------------------------------------------------ state
     def reset(self) -> None:
@@ -145,9 +130,7 @@ class Bodies:
         self._cache = np.zeros((n, 3))  # displacement over _cache_dt at the current velocities
         self._cache_dt = np.full(1, -1.0)  # -1: the cache is invalid
         self._all_true = np.ones(n, dtype=bool)
-        self._all_false = np.zeros(n, dtype=bool)
         self._all_true.setflags(write=False)
-        self._all_false.setflags(write=False)
         # writable like the masks of real pushes: numba compiles per array type (read-only
         # is another), and a second compile would land in a match's cycle
         self._no_push = np.zeros(n, dtype=bool)

@@ -417,3 +417,32 @@ def test_a_new_generator_is_drawn_from() -> None:
     _noisy_walk(bodies, second, 5)
     assert first.bit_generator.state == state
     assert second.bit_generator.state != np.random.default_rng(2).bit_generator.state
+
+
+def test_the_kernel_reads_the_profile_where_bodies_put_it(t1) -> None:
+    # Bodies lays out the kernel's inputs without importing it (numba is imported on the first
+    # step): the sizes and the order of its parameter vector must be the kernel's
+    from locomotion import step_kernel as k
+
+    b = Bodies(t1, 3)
+    assert b._params.shape == (k.N_PARAMS,)
+    assert b._counts.shape == (k.N_COUNTS,)
+    assert b._flags.shape == (3, 3) and b._scratch.shape == (4, 3)
+    assert b._vectors.shape == (4, 3)
+    expected = {
+        k.P_T: t1.step_period, k.P_VX_FWD: t1.envelope_vx_forward,
+        k.P_VX_BACK: t1.envelope_vx_backward, k.P_VY: t1.envelope_vy,
+        k.P_TURN: t1.envelope_turn, k.P_EXPONENT: t1.envelope_exponent,
+        k.P_J_LO: t1.impact_fall_impulse_low, k.P_J_HI: t1.impact_fall_impulse_high,
+        k.P_JUMP_THRESHOLD: t1.command_jump_threshold,
+        k.P_JUMP_PROBABILITY: t1.command_jump_fall_probability,
+        k.P_DOWN_TIME: t1.fall_duration + t1.getup_duration,
+        k.P_KICK_SIGMA: t1.kick_direction_std, k.P_KICK_MAX_ANGLE: t1.kick_max_angle,
+        k.P_KICK_PREP: t1.kick_prep_time, k.P_KICK_DURATION: t1.kick_duration,
+        k.P_KICK_MEAN: t1.kick_distance_mean, k.P_KICK_STD: t1.kick_distance_std,
+        k.P_KICK_MIN: t1.kick_distance_min, k.P_KICK_MAX: t1.kick_distance_max,
+    }
+    assert {i: float(b._params[i]) for i in expected} == pytest.approx(expected)
+    assert b._vectors[k.V_DV] == pytest.approx(np.asarray(t1.accel) * t1.step_period)
+    assert b._vectors[k.V_LIM_BACK][0] == t1.envelope_vx_backward
+    assert b._vectors[k.V_ODOMETRY_SCALE] == pytest.approx(t1.odometry_scale)
