@@ -18,6 +18,9 @@ from .connection import READ_TIMEOUT_S, Connection
 from .errors import LeagueError, ServerDiedError
 from .perception import Perception, parse_perception
 
+#: how long a failed connection waits for the server's process to be seen exiting
+DEATH_GRACE_S = 2.0
+
 
 class TeamClient:
     """All agents of one team on one server: ``join()``, then ``perceive()`` / ``act()``.
@@ -64,7 +67,7 @@ class TeamClient:
         try:
             text = self._conns[unum].receive()
         except ServerDiedError:
-            self._check_alive()
+            self._name_the_death()
             raise
         if self.on_message is not None:
             self.on_message(unum, text)
@@ -77,9 +80,25 @@ class TeamClient:
 
     def act(self, actions: Mapping[int, str] | None = None) -> None:
         """Answer this cycle: ``actions[unum]`` is the agent's message (``(syn)`` if absent)."""
-        for u, message in answers(self.team, self.unums, actions).items():
-            self._conns[u].send(message)
+        try:
+            for u, message in answers(self.team, self.unums, actions).items():
+                self._conns[u].send(message)
+        except ServerDiedError:
+            self._name_the_death()
+            raise
         self.cycles += 1
+
+    def _name_the_death(self) -> None:
+        """After a connection failed: raise ``check_alive``'s error (the exit code, the log)
+        if the server has exited. A killed server's sockets are reset before its process can
+        be reaped, so an exit is awaited for up to ``DEATH_GRACE_S``; a server that is alive
+        after that closed the connection itself, and the caller's error stands."""
+        deadline = time.monotonic() + DEATH_GRACE_S
+        while True:
+            self._check_alive()
+            if time.monotonic() >= deadline:
+                return
+            time.sleep(0.02)
 
     def close(self) -> None:
         for conn in self._conns.values():
