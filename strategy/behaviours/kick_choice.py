@@ -22,8 +22,7 @@ at the goal mouth are raced for, and credited with ground, at the goal line (see
 
 from __future__ import annotations
 
-import math
-from collections.abc import Sequence
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -36,6 +35,9 @@ from teamenv.capabilities import BodyCapabilities
 
 LANE_M = 0.45
 """An opponent this close to the ball's path (before it stops) takes the ball."""
+
+POST_MARGIN_M = 0.15
+"""A shot on target passes at least this far inside a post."""
 
 MIN_SHOT_CHANCE = 0.05
 """A kick at the goal with less chance than this is reported as a long kick, not a shot."""
@@ -57,42 +59,6 @@ class KickChoice:
     goal_chance: float = 0.0
 
 
-def _reach_times(points: NDArray[np.float64],
-                 sides: Sequence[tuple[NDArray[np.float64], NDArray[np.bool_], NDArray[np.bool_]]],
-                 speed: float, fallen_s: float) -> list[NDArray[np.float64]]:
-    """Per side (players, usable, fallen): (P,) the earliest any of its usable players
-    reaches each point, seconds (a fallen one starts ``fallen_s`` late); inf where it has
-    none. Both sides' distances in one pass."""
-    rows = [players[usable] for players, usable, _ in sides]
-    p = np.concatenate(rows)
-    t = np.hypot(points[:, None, 0] - p[None, :, 0], points[:, None, 1] - p[None, :, 1]) / speed
-    t += np.where(np.concatenate([fallen[usable] for _, usable, fallen in sides]),
-                  fallen_s, 0.0)[None, :]
-    out, start = [], 0
-    for r in rows:
-        out.append(t[:, start:start + len(r)].min(axis=1) if len(r)
-                   else np.full(len(points), np.inf))
-        start += len(r)
-    return out
-
-
-def _lane_blocked(ball: NDArray[np.float64], ends: NDArray[np.float64],
-                  opponents: NDArray[np.float64]) -> NDArray[np.bool_]:
-    """(P,) an opponent stands within ``LANE_M`` of the path from ``ball`` to each end (its
-    first 90 %: the last part is the race)."""
-    if len(opponents) == 0:
-        return np.zeros(len(ends), dtype=bool)
-    seg = ends - ball  # (P, 2)
-    length2 = np.maximum(np.einsum("ij,ij->i", seg, seg), 1e-12)
-    rel = opponents[None, :, :] - ball[None, None, :]  # (1, M, 2)
-    s = np.clip(np.einsum("pmj,pj->pm", np.broadcast_to(rel, (len(ends),) + rel.shape[1:]),
-                          seg) / length2[:, None], 0.0, 0.9)
-    closest = ball[None, None, :] + s[:, :, None] * seg[:, None, :]
-    gap = np.hypot(*(opponents[None, :, :] - closest).transpose(2, 0, 1))
-    # an opponent behind the ball (s clipped to 0) is not in the lane
-    return ((gap < LANE_M) & (s > 0.0)).any(axis=1)
-
-
 def goal_probability(wm: WorldModel, aim: NDArray[np.float64], power: float,
                      body: BodyCapabilities) -> float:
     """Chance a kick by ``body`` from the ball at ``aim`` with ``power`` ends in the goal:
@@ -111,8 +77,8 @@ def goal_chances(half_length: float, half_goal_width: float, balls: NDArray[np.f
     ahead = dx > 0
     dx = np.where(ahead, dx, 1.0)
     to_aim = pm.arctan2(aims[:, 1] - balls[:, 1], aims[:, 0] - balls[:, 0])
-    low = pm.arctan2(-half_goal_width + 0.15 - balls[:, 1], dx)
-    high = pm.arctan2(half_goal_width - 0.15 - balls[:, 1], dx)
+    low = pm.arctan2(-half_goal_width + POST_MARGIN_M - balls[:, 1], dx)
+    high = pm.arctan2(half_goal_width - POST_MARGIN_M - balls[:, 1], dx)
     aim_sd = max(body.kick_aim_sd_rad, 1e-9)
     p_aim = ndtr((high - to_aim) / aim_sd) - ndtr((low - to_aim) / aim_sd)
     needed = np.hypot(dx, balls[:, 1]) / np.maximum(powers, 1e-6)
@@ -124,59 +90,78 @@ def best_kick(wm: WorldModel, body: BodyCapabilities, walk_speed: float,
               possession_weight: float, progress_weight: float, goal_weight: float,
               follow_up: float = 0.0, exclude: tuple[int, ...] = ()) -> KickChoice:
     """The most valuable kick by ``body`` from where the ball is (see the module doc);
-    ``walk_speed`` (m/s): how fast players really run to the landing point."""
-    f = wm.field
-    ball = wm.ball
-    goal = wm.opponent_goal
-    base = math.atan2(goal[1] - ball[1], goal[0] - ball[0])
-    angles = base + DIRECTIONS
-    fan = np.column_stack([np.cos(angles), np.sin(angles)])
-    reaches = np.array(POWERS) * body.kick_distance_mean_m
-    shots, power_arr, is_shot = _candidates(f.half_length, f.half_goal_width)
-    end = np.concatenate(((ball + reaches[:, None, None] * fan).reshape(-1, 2), shots))
-    # A kick at the goal mouth is credited (race and ground gained) at the goal line, not
-    # where a mean kick would stop: a deliberate bias towards kicking at the goal. The ball
-    # goes in, goes out for a corner or goal kick, or is fought for in their box; against
-    # the built-in opponents this beat racing it at the mean kick length (2-0 vs 0-0).
-    landing = end.copy()
-    landing[:, 0] = np.minimum(landing[:, 0], f.half_length)
-    on_pitch = ((np.abs(landing[:, 1]) <= f.half_width - 0.5)
-                & (landing[:, 0] > -f.half_length + 1.0) & (end[:, 0] < f.half_length - 0.5))
+    ``walk_speed`` (m/s): how fast players really run to the landing point.
 
-    mates_usable = wm.teammates_present.copy()
+    The candidates: a fan of ``DIRECTIONS`` about the line to the goal centre at each of
+    ``POWERS`` (ending at the body's mean reach), and shots at three points of the goal
+    mouth. A kick at the goal mouth is credited (race and ground gained) at the goal line,
+    not where a mean kick would stop: a deliberate bias towards kicking at the goal. The
+    ball goes in, goes out for a corner or goal kick, or is fought for in their box; against
+    the built-in opponents this beat racing it at the mean kick length (2-0 vs 0-0). A
+    player seen lying needs its get-up first (its fall is mostly over when it is seen down).
+    A shot through a crowd keeps half its chance (deflections). A pass is worth the shot its
+    receiver can take from where it wins the ball. Scored in compiled loops
+    (``kick_kernel``), the normal CDF in one SciPy call."""
+    kernel = _kernel()
+    f = wm.field
+    shots, powers, is_shot = _candidates(f.half_length, f.half_goal_width)
+    mates_usable = np.array(wm.teammates_present, dtype=bool)
     for k in exclude:
         mates_usable[k] = False
     mates_usable[wm.me] = False
-    # A player seen lying needs its get-up (its fall is mostly over when it is seen down).
-    ours, theirs = _reach_times(
-        landing, ((wm.teammates, mates_usable, wm.teammates_fallen),
-                  (wm.opponents, wm.opponents_present, wm.opponents_fallen)),
-        walk_speed, body.getup_s)
-    mine = body.kick_duration_s + np.hypot(*(landing - wm.position).T) / walk_speed
-    ours = np.minimum(ours, mine)
-    margin = np.clip(theirs - ours, -10.0, 10.0)
-    blocked = _lane_blocked(ball, landing, wm.opponents[wm.opponents_present])
-    margin = np.where(blocked, -3.0, margin)
-    race = pm.tanh(margin / 2.0)
-    value = possession_weight * race + progress_weight * (landing[:, 0] - ball[0])
-    # a shot through a crowd still has its chance (deflections): halved, not lost (one ball
-    # for every candidate: its goal-mouth angles are computed once)
-    p_goal = goal_chances(f.half_length, f.half_goal_width, ball[None, :], end, power_arr,
-                          body) * np.where(blocked, 0.5, 1.0)
-    # a pass is worth the shot the receiver can take from where it wins the ball (only the
-    # kicks that can be chosen: the others' values are -inf below)
-    passes = on_pitch & ~is_shot
-    win = 0.5 * (1.0 + race[passes])
-    follow = np.zeros(len(end))
-    follow[passes] = follow_up * win * goal_chances(
-        f.half_length, f.half_goal_width, landing[passes], goal[None, :], _FULL_POWER, body)
-    value += goal_weight * np.where(is_shot, p_goal, follow)
-    value = np.where(on_pitch | is_shot, value, -np.inf)
-    k = int(np.argmax(value))
-    return KickChoice(end[k], float(power_arr[k]), float(value[k]), float(margin[k]),
-                      bool(is_shot[k]), float(p_goal[k]) if is_shot[k] else 0.0)
+    total = len(powers)
+    cand = np.empty((kernel.ROWS, total))
+    z = np.empty(6 * total)
+    shot_ok, used = kernel.candidates(
+        _floats(wm.ball), _floats(wm.opponent_goal), _floats(wm.position),
+        _floats(wm.teammates), mates_usable, _bools(wm.teammates_fallen), _floats(wm.opponents),
+        _bools(wm.opponents_present), _bools(wm.opponents_fallen), DIRECTIONS, _POWERS, shots,
+        is_shot, np.array((f.half_length, f.half_width, f.half_goal_width, LANE_M, POST_MARGIN_M)),
+        np.array((body.kick_distance_mean_m, walk_speed, body.getup_s, body.kick_duration_s,
+                  max(body.kick_aim_sd_rad, 1e-9), max(body.kick_distance_sd_m, 1e-9))),
+        cand, z)
+    value, p_goal = np.empty(total), np.empty(total)
+    k = kernel.choose(float(wm.ball[0]), cand, is_shot, shot_ok, ndtr(z[:used]),
+                      np.array((possession_weight, progress_weight, goal_weight, follow_up)),
+                      value, p_goal)
+    return KickChoice(cand[kernel.END_X:kernel.END_Y + 1, k].copy(), float(powers[k]),
+                      float(value[k]), float(cand[kernel.MARGIN, k]), bool(is_shot[k]),
+                      float(p_goal[k]) if is_shot[k] else 0.0)
 
 
+@functools.cache
+def _kernel():
+    """The compiled loops, imported on the first kick choice (numba takes a few tenths of a
+    second to import)."""
+    from strategy.behaviours import kick_kernel
+
+    return kick_kernel
+
+
+def prepare_kernel() -> None:
+    """Compile (or load from numba's cache) the kernel's loops now, before a match's first
+    cycle runs under its stall watchdog: a cold compile takes seconds."""
+    kernel = _kernel()
+    shots, powers, is_shot = _candidates(10.0, 1.0)
+    two, mask = np.zeros((2, 2)), np.ones(2, dtype=bool)
+    cand, z = np.empty((kernel.ROWS, len(powers))), np.zeros(6 * len(powers))
+    kernel.candidates(np.zeros(2), np.array((10.0, 0.0)), np.zeros(2), two, mask, ~mask, two,
+                      mask, ~mask, DIRECTIONS, _POWERS, shots, is_shot,
+                      np.array((10.0, 7.0, 1.0, LANE_M, POST_MARGIN_M)),
+                      np.ones(6), cand, z)
+    kernel.choose(0.0, cand, is_shot, True, z, np.ones(4), np.empty(len(powers)),
+                  np.empty(len(powers)))
+
+
+def _floats(x) -> NDArray[np.float64]:
+    return np.ascontiguousarray(x, dtype=np.float64)
+
+
+def _bools(x) -> NDArray[np.bool_]:
+    return np.ascontiguousarray(x, dtype=bool)
+
+
+_POWERS = np.array(POWERS)
 _FULL_POWER = np.ones(1)
 _CANDIDATES: dict[tuple[float, float], tuple[NDArray[np.float64], NDArray[np.float64],
                                              NDArray[np.bool_]]] = {}

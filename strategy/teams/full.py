@@ -12,7 +12,9 @@ from collections.abc import Mapping
 from typing import Any
 
 from strategy.behaviours.control import team_actions
+from strategy.behaviours.kick_choice import prepare_kernel as prepare_kick_kernel
 from strategy.behaviours.skills import Skills
+from strategy.behaviours.walk_batch import prepare_kernel as prepare_walk_kernel
 from strategy.geometry import BallRoll
 from strategy.perception.perceiver import perceiver_for
 from strategy.positioning.formation.sized import team_formation
@@ -81,6 +83,9 @@ class FullTeam:
             player.reset()
         self.talk.reset()
         self.perceiver.reset(seed)
+        # compiled here, not in a cycle that runs under a match's stall watchdog
+        prepare_kick_kernel()
+        prepare_walk_kernel()
 
     def annotations(self) -> dict[str, dict[str, Any]]:
         """What each agent believed and decided last cycle, for replays with extras
