@@ -96,3 +96,19 @@ def test_pending_request_copies_and_pickles_still_pending():
         assert clone.pending and clone.behaviour == "go_to"
         assert clone.walk.tobytes() == goal.command().tobytes()
     assert request.pending
+
+
+def test_the_kernels_hypot_is_pythons_bit_for_bit():
+    # CPython computes math.hypot itself (not the C library's hypot, which numba calls)
+    import math
+
+    from strategy.behaviours.walk_kernel import py_hypot
+
+    rng = np.random.default_rng(0)
+    legs = rng.normal(size=(100_000, 2)) * 10.0 ** rng.uniform(-8, 8, (100_000, 2))
+    special = [0.0, -0.0, 5e-324, 1e-310, -2.2250738585072014e-308, 1e-300, 1e300, 1.7e308,
+               math.inf, -math.inf, math.nan, 3.0, 4.0]
+    pairs = legs.tolist() + [(x, y) for x in special for y in special]
+    got = np.array([py_hypot(x, y) for x, y in pairs])
+    expected = np.array([math.hypot(x, y) for x, y in pairs])
+    assert got.tobytes() == expected.tobytes()
