@@ -19,7 +19,7 @@ stands still instead of stepping in place: our walker stepping on the spot falls
 **Kicks** (``teamenv.league.kick``): the encoder tracks the ball from the agent's own vision
 (``BallTracker``). A kick request (power 0-1, direction rad, body frame) walks the robot into
 the kick spot facing the direction (``approach_command``) and, once there with a recent
-sighting (``in_kick_spot``, ``KICK_SIGHTING_MAX_AGE_S``), starts the kick motion; a kick
+sighting (``KickMotion.ready``, ``KICK_SIGHTING_MAX_AGE_S``), starts the kick motion; a kick
 request holds for ``KICK_LATCH_S`` while the ball is within ``KICK_LATCH_M`` (walk requests
 meanwhile go on preparing it);
 the motion plays to its end whatever is asked meanwhile (walk and kick requests are ignored,
@@ -54,7 +54,7 @@ from .errors import LeagueError
 from .falls import is_fallen
 from .getup import GetUpMotion
 from .handover import HandOver
-from .kick import BallTracker, KickMotion, approach_command, in_kick_spot
+from .kick import BallTracker, KickMotion, approach_command
 from .perception import Perception, Polar
 
 #: server mark -> our landmark name, for the left and the right team (teamenv.landmarks)
@@ -219,7 +219,7 @@ class RequestEncoder:
             ball = self.ball.body
             if self.kick is None or ball is None:
                 walk = self._walk_through(direction)
-            elif (in_kick_spot(ball, direction, self.kick.params)
+            elif (self.kick.ready(ball, direction, self._walking is self.kick.walker)
                   and self.ball.age_s <= KICK_SIGHTING_MAX_AGE_S):
                 walker = self.kick.walker if self.kick.shares_walker else None
                 if walker is not None and self._walking is not walker:

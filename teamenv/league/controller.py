@@ -154,6 +154,15 @@ class WalkerController:
         self._last_xyz = None
         self._last_q = None
 
+    @property
+    def gait(self) -> tuple[str, float, float] | None:
+        """(swing foot "Left"/"Right", time into its step, step period) s; None before the
+        first step (standing, or not started since the last reset)."""
+        w = self._walker
+        if not self._started or w.t_step <= 0.0:
+            return None
+        return w.swing, w.t_step, w.p.step_period
+
     def _state(self, p: Perception) -> tuple[np.ndarray, np.ndarray]:
         t1 = self._t1
         qpos = t1.q_stance.copy()

@@ -11,7 +11,10 @@ foothold the walker planned. Everything else is the walk's: the LIPM preview con
 capture-point step adjustment and the attitude feedback keep the robot up through and after
 the strike, which a keyframe kick on one foot did not (tuned keyframe kicks fell in nearly
 every trial on the server's physics; see docs/league.md). After the strike the walk goes on
-for ``follow_s`` with the command falling to zero, then the motion is done.
+for ``follow_s`` with the command falling to zero, then the motion is done. In a running gait
+it starts (``KickMotion.ready``) one step before the kicking foot's swing that will find the
+ball within ``strike_x``; the approach walks into the spot at ``approach_vx`` to get there
+(so the kick lasts ~0.7 s, not up to three swings of that foot).
 
 It starts from whatever the walk left: with the encoder's own ``WalkerController`` it simply
 continues that gait (``KickMotion(walker)``); with another controller (e.g. the reference
@@ -87,11 +90,13 @@ class KickParams:
     follow_vx: float = 0.0
     max_wait_s: float = 3.0
     aim_bias: float = 0.18
+    approach_vx: float = 0.1
+    phase_start: bool = True
 
-    def with_(self, **kw: float) -> KickParams:
+    def with_(self, **kw: float | bool) -> KickParams:
         return replace(self, **kw)
 
-    def as_dict(self) -> dict[str, float]:
+    def as_dict(self) -> dict[str, float | bool]:
         return {f.name: getattr(self, f.name) for f in fields(self)}
 
 
@@ -176,6 +181,22 @@ class KickMotion:
             self.walker.reset()
             self._from = measured_angles(perception)
         self.done = False
+
+    def ready(self, ball: tuple[float, float], direction: float, walking: bool = True) -> bool:
+        """Whether to start the kick now: ``in_kick_spot`` and, with ``phase_start`` while
+        this kick's walker walks the approach (``walking``), the kicking foot's swing is the
+        next step and finds the ball (walking on at ``walk_vx``) at most ``strike_x`` ahead,
+        so the strike comes on that swing: the wait for it is walked as approach, in the
+        same gait, instead of inside the kick."""
+        p = self.params
+        if not in_kick_spot(ball, direction, p):
+            return False
+        gait = self.walker.gait if walking and p.phase_start else None
+        if gait is None:
+            return True
+        swing, t_step, period = gait
+        kicking = "Left" if kick_foot(ball, direction) == "left" else "Right"
+        return swing != kicking and ball[0] - p.walk_vx * (period - t_step) <= p.strike_x
 
     @property
     def elapsed_s(self) -> float:
@@ -345,6 +366,8 @@ class BallTracker:
 SPOT_TOLERANCE_X = (-0.06, 0.03)
 SPOT_TOLERANCE_Y = 0.05
 HEADING_TOLERANCE = 0.12
+#: within this (m, the ball beyond the spot) a lined-up approach walks at ``approach_vx``
+APPROACH_WALK_IN_M = 0.2
 #: the share of the walker's envelope (``LEAGUE_ENVELOPE``, as an ellipsoid) the approach uses
 APPROACH_ENVELOPE_SHARE = 0.7
 
@@ -391,6 +414,12 @@ def approach_command(ball: tuple[float, float], direction: float,
     turn = float(np.clip(1.2 * aim, -0.6, 0.6))
     slow = max(0.0, 1.0 - abs(aim) / 0.8)               # turn first when far off
     vx = float(np.clip(1.5 * gx, -0.15, speed)) * slow
+    ex, ey, _ = spot_error(ball, direction, params)
+    if (params.approach_vx > 0.0 and SPOT_TOLERANCE_X[0] < ex <= APPROACH_WALK_IN_M
+            and abs(ey) <= SPOT_TOLERANCE_Y and abs(heading) <= HEADING_TOLERANCE):
+        # lined up: walk into the spot at the kick's own pace instead of slowing into it, so
+        # the kick starts in a forward gait with the ball coming into reach
+        vx = max(vx, params.approach_vx)
     vy = float(np.clip(3.0 * gy, -0.1, 0.1)) * slow     # small sideways commands barely move
     # the walker falls near the edge of its envelope when walking, stepping sideways and
     # turning at once: keep the combined command within APPROACH_ENVELOPE_SHARE of it

@@ -3,7 +3,7 @@
 ``kick_trial`` puts the ball at rest at ``BALL`` and the robot at ``start`` (world x, y, yaw),
 lets it stand ``stand_s``, then either kicks at once (``approach=False``: the robot should
 already stand at the kick spot) or walks to the ball with ``approach_command`` under the
-given walk controller and kicks when ``in_kick_spot`` (``approach=True``, within
+given walk controller and kicks when ``KickMotion.ready`` (``approach=True``, within
 ``approach_s``). The kick's target is a world heading (``target_yaw``); each cycle it is
 turned into the body frame from the torso's pose, as a team would ask. The ball's place the
 robot uses comes from its vision (``BallTracker``); the ball's travel is measured from the
@@ -27,7 +27,6 @@ from .kick import (
     KickMotion,
     KickParams,
     approach_command,
-    in_kick_spot,
 )
 
 #: head pitch (rad, down) while the robot stands before the approach: the ball at the kick spot
@@ -105,7 +104,7 @@ def kick_trial(start: tuple[float, float, float], target_yaw: float = 0.0, power
         direction = _wrap(target_yaw - torso_pose(p)[2])
         if is_fallen(p) or walked * CYCLE_S >= (approach_s if approach else 0.0):
             break
-        if rel is not None and in_kick_spot(rel, direction, params):
+        if rel is not None and kick.ready(rel, direction, walking is kick.walker):
             break
         command = approach_command(rel, direction, params) if rel is not None else (0, 0, 0.5)
         now = kick.walker if rel is not None and math.hypot(*rel) <= KICK_LATCH_M else walker
