@@ -12,7 +12,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from teamenv.sim.perception import ObservationRows
+    from teamenv.sim.perception import ObservationRows, StackedState
 
 
 class LazyInfos(dict):
@@ -68,6 +68,14 @@ class LazyObservations(dict):
 
     def get(self, agent, default=None):
         return self[agent] if dict.__contains__(self, agent) else default
+
+    def stacked(self) -> StackedState | None:
+        """Every agent's observation as one array of flat rows, in key order
+        (``ObservationRows.stacked``), for readers that take them together; None once the
+        dicts have been built (they may have been changed since: read them instead)."""
+        if self._rows is None:
+            return None
+        return self._rows.stacked([self._row_of[agent] for agent in dict.__iter__(self)])
 
     def __iter__(self):
         # Defined here so that dict(obs), {**obs} and dict.update(obs) go through keys() and

@@ -15,6 +15,8 @@ from typing import Any
 
 from teamenv.actions import ActionParser
 from teamenv.errors import ActionError, ConfigError, TeamFault
+from teamenv.lazy import LazyObservations
+from teamenv.sim.perception import ObservationRows
 from teamenv.sim.simulation import Commands
 from teamenv.teams import TeamContext, make_team
 
@@ -92,10 +94,14 @@ class TeamHost:
         player order, Dict form) for the next ``act``."""
         t0 = self._clock()
         rows = self._rows
-        self.observations = {
-            side: dict(zip(agents, [observations[r] for r in rows[side]], strict=True))
-            for side, agents in self.agents.items()
-        }
+        if isinstance(observations, ObservationRows):  # dicts built on first use
+            self.observations = {side: LazyObservations(agents, observations, self._row)
+                                 for side, agents in self.agents.items()}
+        else:
+            self.observations = {
+                side: dict(zip(agents, [observations[r] for r in rows[side]], strict=True))
+                for side, agents in self.agents.items()
+            }
         self.phase_s["perception"] += self._clock() - t0
 
     def act(self, cmd: Commands) -> None:

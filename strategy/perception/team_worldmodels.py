@@ -24,8 +24,10 @@ from strategy.perception.worldmodel import (
     _rounded,
     heard_texts,
 )
+from teamenv.box_layout import PLAYER_DIM
 from teamenv.field import FieldSpec
 from teamenv.observation import play_mode_of
+from teamenv.sim.perception import StackedState
 
 _new_model = object.__new__
 
@@ -41,7 +43,8 @@ def team_world_models(observations: Mapping[str, Mapping[str, Any]],
     ``ball_rest``: also fill each model's ``ball_rest()`` now, once for all agents that see
     the same ball (teams that anticipate the ball, like ``full``, read it every cycle)."""
     agents = list(observations)
-    stacked = _stack(observations, agents)
+    block = _stacked(observations)
+    stacked = _from_block(block) if block is not None else _stack(observations, agents)
     if stacked is None:
         return _one_by_one(observations, index, field, roll, resolution)
     selfs, balls, players, n = stacked
@@ -81,7 +84,9 @@ def team_world_models(observations: Mapping[str, Mapping[str, Any]],
     # what WorldModel.obstacle_rows masks: every present player but oneself
     obstacle_mask = np.concatenate((present, opponents_present), axis=1)
     obstacle_mask[every, me_rows] = False
-    modes = [play_mode_of(observations[agent]["play_mode"]) for agent in agents]
+    modes = [play_mode_of(mode) for mode in (
+        block.play_modes if block is not None else
+        [observations[agent]["play_mode"] for agent in agents])]
     # belief keys: everything but the own pose and the texts heard, as bytes (one row each)
     keys = np.concatenate((
         flat[:, :count].reshape(agents_n, -1).view(np.uint8),
@@ -91,14 +96,19 @@ def team_world_models(observations: Mapping[str, Mapping[str, Any]],
         np.array(modes, dtype="<u2").view(np.uint8).reshape(agents_n, 2)), axis=1)
     headings, vx, vy = heading.tolist(), selfs[:, 3].tolist(), selfs[:, 4].tolist()
     fallen_list = fallen_self.tolist()
-    heard = _heard(observations, agents)
+    if block is not None:
+        games = block.values[:, block.spans[3]:block.spans[4]].tolist()
+        heard = _heard_texts(block.values[:, block.spans[4]:].astype(np.float64).reshape(
+            (len(agents),) + block.heard_shape), block.heard_texts)
+    else:
+        games = [observations[agent]["game"] for agent in agents]
+        heard = _heard(observations, agents)
     roll = roll or BallRoll()
     rests: dict[bytes, Any] = {}
     out = {}
     for a, agent in enumerate(agents):
-        obs = observations[agent]
         rows = flat[a]
-        game = obs["game"]
+        game = games[a]
         wm = _new_model(WorldModel)
         # a frozen dataclass: fill its instance dict (what __init__ would store)
         wm.__dict__.update(
@@ -109,7 +119,8 @@ def team_world_models(observations: Mapping[str, Mapping[str, Any]],
             opponents_present=opponents_present[a], opponents_fallen=opponents_fallen[a],
             play_mode=modes[a], time_s=float(game[0]),
             half=int(game[1]), score=(int(game[2]), int(game[3])),
-            heard=heard[a] if heard is not None else tuple(heard_texts(obs)), field=field,
+            heard=heard[a] if heard is not None else tuple(heard_texts(observations[agent])),
+            field=field,
             roll=roll,
             belief_key=keys[a].tobytes(), ball_age_s=0.0, pose_spread_m=0.0,
             _players=rows[:count], _obstacle_mask=obstacle_mask[a])
@@ -144,6 +155,25 @@ def _stack(observations: Mapping[str, Mapping[str, Any]], agents: list[str]):
     return selfs, balls, np.concatenate((mates, opps), axis=1), n
 
 
+def _stacked(observations: Mapping[str, Any]) -> StackedState | None:
+    """The env's stacked rows of these observations, where it hands them over that way
+    (``teamenv.lazy.LazyObservations.stacked``: no per-agent dicts built)."""
+    stacked = getattr(observations, "stacked", None)
+    return stacked() if callable(stacked) else None
+
+
+def _from_block(block: StackedState):
+    """``_stack``'s arrays from the env's stacked rows (the same float64 values: each
+    float32 entry converted exactly, as ``np.array(..., dtype=np.float64)`` of the views)."""
+    values = block.values
+    o_ball, o_players, o_mode = block.spans[0], block.spans[1], block.spans[2]
+    selfs = values[:, :o_ball].astype(np.float64)
+    balls = values[:, o_ball:o_players].astype(np.float64)
+    players = values[:, o_players:o_mode].astype(np.float64).reshape(len(values), -1,
+                                                                     PLAYER_DIM)
+    return selfs, balls, players, block.team_size
+
+
 def _heard(observations: Mapping[str, Mapping[str, Any]],
            agents: list[str]) -> list[tuple[str, ...]] | None:
     """Per agent, ``heard_texts`` of its observation, the slot tests in one pass (None when
@@ -153,6 +183,12 @@ def _heard(observations: Mapping[str, Mapping[str, Any]],
         texts = [observations[a]["heard_text"] for a in agents]
     except (KeyError, ValueError, TypeError):
         return None
+    return _heard_texts(info, texts)
+
+
+def _heard_texts(info: np.ndarray, texts: list) -> list[tuple[str, ...]] | None:
+    """Per agent, the texts of its heard slots that pass ``_heard_from_team`` (``info``:
+    (agents, slots, columns) float64)."""
     if info.ndim != 3 or info.shape[2] < 3:
         return None
     ok = _heard_from_team(info).tolist()

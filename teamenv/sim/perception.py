@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Sequence
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -99,6 +99,27 @@ class StatePerception:
         return observations if lazy else list(observations)
 
 
+class StackedState(NamedTuple):
+    """Several agents' ``state`` observations as rows (``ObservationRows.stacked``).
+
+    Attributes:
+        values: (k, width) float32, each agent's flat observation (``StateLayout``).
+        heard_texts: per agent, its ``heard_text`` tuple.
+        play_modes: per agent, its ``play_mode`` (int, its team's view of the mode).
+        spans: where ``ball``, the players, ``play_mode``, ``game`` and ``heard`` start in
+            a row (``self`` starts at 0).
+        team_size: players per team (teammates, then opponents, in the player block).
+        heard_shape: (slots, columns) of ``heard``.
+    """
+
+    values: np.ndarray
+    heard_texts: list
+    play_modes: list
+    spans: tuple
+    team_size: int
+    heard_shape: tuple
+
+
 class ObservationRows(Sequence):
     """The Dict observations of one ``StatePerception.observe`` call, each agent's dict built
     on first access (then kept): the same dicts, of the same views, as the eager list."""
@@ -118,6 +139,15 @@ class ObservationRows(Sequence):
 
     def __len__(self) -> int:
         return len(self._built)
+
+    def stacked(self, rows: Sequence[int]) -> StackedState:
+        """The observations of agents ``rows`` (player indices) as one array of their flat
+        rows, for a team that reads its agents together instead of dict by dict: the values
+        every Dict view of those agents holds (a copy, taken now)."""
+        rows = list(rows)
+        return StackedState(self._out[rows], [self._texts[r] for r in rows],
+                            [self._modes[r] for r in rows], self._spans, self._size,
+                            self._heard_shape)
 
     def __getitem__(self, i):  # type: ignore[override]
         if isinstance(i, slice):

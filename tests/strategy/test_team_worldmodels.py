@@ -51,6 +51,29 @@ def test_batched_world_models_equal_one_by_one(resolution):
         obs, *_ = env.step(actions)
 
 
+@pytest.mark.parametrize("resolution", [0.01, None])
+def test_world_models_from_the_envs_stacked_rows_equal_those_from_the_dicts(resolution):
+    # a team hosted by the env gets its observations as LazyObservations, whose stacked
+    # rows team_world_models reads without building the per-agent dicts
+    env = teamenv.parallel_env(team_size=5, left="chaser", right="chaser")
+    env.reset(seed=3)
+    roll = BallRoll()
+    for _ in range(300):
+        for side in ("left", "right"):
+            hosted = env.team_host.observations[side]
+            assert hosted.stacked() is not None
+            index = {a: k for k, a in enumerate(hosted)}
+            from_rows = team_world_models(hosted, index, env.field, roll, resolution,
+                                          ball_rest=True)
+            dicts = {a: hosted[a] for a in hosted}
+            from_dicts = team_world_models(dicts, index, env.field, roll, resolution,
+                                           ball_rest=True)
+            assert list(from_rows) == list(from_dicts)
+            for agent in from_rows:
+                _same(from_rows[agent], from_dicts[agent])
+        env.step({})
+
+
 def test_irregular_observation_gets_the_per_agent_error():
     env = teamenv.parallel_env(team_size=3)
     obs, _ = env.reset(seed=1)

@@ -64,3 +64,25 @@ def test_lazy_observations_behave_as_a_dict():
     values = list(obs.values())
     assert all(isinstance(v, dict) for v in values)
     assert repr(obs).startswith("{'left_1': {'self': array(")
+
+
+def test_stacked_rows_hold_every_agents_values_until_the_dicts_are_built():
+    env = teamenv.parallel_env(team_size=3)
+    obs, _ = env.reset(seed=4)
+    obs, *_ = env.step({a: {"walk": np.full(3, 0.2, np.float32), "say": "hi"} for a in env.agents})
+    block = obs.stacked()
+    spans, n = block.spans, block.team_size
+    for row, agent in zip(block.values, obs, strict=True):
+        d = obs[agent]  # built one by one: the rows stay available
+        assert row[:spans[0]].tobytes() == d["self"].tobytes()
+        assert row[spans[0]:spans[1]].tobytes() == d["ball"].tobytes()
+        players = row[spans[1]:spans[2]].reshape(2 * n, -1)
+        assert players[:n].tobytes() == d["teammates"].tobytes()
+        assert players[n:].tobytes() == d["opponents"].tobytes()
+        assert row[spans[3]:spans[4]].tobytes() == d["game"].tobytes()
+        assert row[spans[4]:].reshape(block.heard_shape).tobytes() == d["heard"].tobytes()
+    assert block.heard_texts == [obs[a]["heard_text"] for a in obs]
+    assert block.play_modes == [obs[a]["play_mode"] for a in obs]
+    assert any(any(texts) for texts in block.heard_texts)
+    list(obs.values())  # every dict built: a reader may have changed them since
+    assert obs.stacked() is None
