@@ -21,6 +21,7 @@ from typing import Any, Protocol
 from strategy.geometry import BallRoll
 from strategy.perception.filtering import FilterParams
 from strategy.perception.localization import LocalizationParams
+from strategy.perception.team_worldmodels import prepare_kernel as prepare_world_model_kernel
 from strategy.perception.team_worldmodels import team_world_models
 from strategy.perception.vision_perceiver import VisionPerceiver
 from strategy.perception.worldmodel import BELIEF_RESOLUTION_M, WorldModel
@@ -62,7 +63,9 @@ class StatePerceiver:
         self.ball_rest = ball_rest
 
     def reset(self, seed: int) -> None:
-        """Nothing to forget: a state belief is this cycle's observation alone."""
+        """Nothing to forget: a state belief is this cycle's observation alone. The
+        compiled rows are loaded now, not in a cycle under a match's stall watchdog."""
+        prepare_world_model_kernel()
 
     def update(self, observations: Mapping[str, Mapping[str, Any]]) -> dict[str, WorldModel]:
         return team_world_models(observations, self.index, self.field, self.roll,

@@ -11,6 +11,7 @@ through ``from_observation`` one by one, which names the agent and field in its 
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping
 from typing import Any
 
@@ -21,7 +22,6 @@ from strategy.perception.worldmodel import (
     BELIEF_RESOLUTION_M,
     WorldModel,
     _heard_from_team,
-    _rounded,
     heard_texts,
 )
 from teamenv.box_layout import PLAYER_DIM
@@ -43,47 +43,31 @@ def team_world_models(observations: Mapping[str, Mapping[str, Any]],
     ``ball_rest``: also fill each model's ``ball_rest()`` now, once for all agents that see
     the same ball (teams that anticipate the ball, like ``full``, read it every cycle)."""
     agents = list(observations)
+    if not agents:
+        return {}
     block = _stacked(observations)
     stacked = _from_block(block) if block is not None else _stack(observations, agents)
     if stacked is None:
         return _one_by_one(observations, index, field, roll, resolution)
     selfs, balls, players, n = stacked
-    px, py, heading = selfs[:, 0], selfs[:, 1], selfs[:, 2]
-    c, s = np.cos(heading), np.sin(heading)
-    bx, by, bvx, bvy = balls[:, 0], balls[:, 1], balls[:, 2], balls[:, 3]
-    ball_x = px + (c * bx - s * by)
-    ball_y = py + (s * bx + c * by)
-    if not np.isfinite(px + py + ball_x + ball_y).all():
-        return _one_by_one(observations, index, field, roll, resolution)  # it names the agent
+    agents_n = len(agents)
     count = players.shape[1]
     # rows 0..n-1 teammates, n..count-1 opponents, then own position, ball, ball velocity
-    flat = np.empty((len(agents), count + 3, 2))
-    x, y = players[:, :, 0], players[:, :, 1]
-    cc, ss = c[:, None], s[:, None]
-    flat[:, :count, 0] = cc * x - ss * y
-    flat[:, :count, 1] = ss * x + cc * y
-    flat[:, :count, 0] += px[:, None]
-    flat[:, :count, 1] += py[:, None]
-    flat[:, count, 0], flat[:, count, 1] = px, py
-    flat[:, count + 1, 0], flat[:, count + 1, 1] = ball_x, ball_y
-    flat[:, count + 2, 0] = c * bvx - s * bvy
-    flat[:, count + 2, 1] = s * bvx + c * bvy
-    if resolution is not None:
-        flat = _rounded(flat, resolution)
-    agents_n = len(agents)
-    me_rows = np.array([index[agent] for agent in agents])
-    every = np.arange(agents_n)
-    flat[every, me_rows] = flat[:, count]  # own row = own position
-    present = players[:, :n, 4] > 0.5
-    present[every, me_rows] = True
-    mates_fallen = players[:, :n, 3] > 0.5
+    flat = np.empty((agents_n, count + 3, 2))
+    present, mates_fallen = np.empty((agents_n, n), bool), np.empty((agents_n, n), bool)
+    opponents_present = np.empty((agents_n, n), bool)
+    opponents_fallen = np.empty((agents_n, n), bool)
+    obstacle_mask = np.empty((agents_n, 2 * n), bool)
+    me_rows = np.array([index[agent] for agent in agents], dtype=np.intp)
+    if not (0 <= me_rows.min() and me_rows.max() < n):
+        return _one_by_one(observations, index, field, roll, resolution)  # it names the agent
+    if not _kernel().team_rows(selfs, balls, players, n, me_rows,
+                               np.nan if resolution is None else float(resolution), flat,
+                               present, mates_fallen, opponents_present, opponents_fallen,
+                               obstacle_mask):
+        return _one_by_one(observations, index, field, roll, resolution)  # it names the agent
+    heading = selfs[:, 2]
     fallen_self = selfs[:, 6] > 0.5
-    mates_fallen[every, me_rows] = fallen_self
-    opponents_present = players[:, n:, 4] > 0.5
-    opponents_fallen = players[:, n:, 3] > 0.5
-    # what WorldModel.obstacle_rows masks: every present player but oneself
-    obstacle_mask = np.concatenate((present, opponents_present), axis=1)
-    obstacle_mask[every, me_rows] = False
     modes = [play_mode_of(mode) for mode in (
         block.play_modes if block is not None else
         [observations[agent]["play_mode"] for agent in agents])]
@@ -153,6 +137,24 @@ def _stack(observations: Mapping[str, Mapping[str, Any]], agents: list[str]):
             or opps.shape[1] != n or opps.shape[2] != mates.shape[2]):
         return None
     return selfs, balls, np.concatenate((mates, opps), axis=1), n
+
+
+@functools.cache
+def _kernel():
+    """The compiled rows (``worldmodel_kernel``), imported on first use (numba takes a few
+    tenths of a second to import)."""
+    from strategy.perception import worldmodel_kernel
+
+    return worldmodel_kernel
+
+
+def prepare_kernel() -> None:
+    """Compile (or load from numba's cache) the kernel now, before a match's first cycle
+    runs under its stall watchdog."""
+    one = np.zeros((1, 2, PLAYER_DIM))
+    masks = [np.empty((1, 1), bool) for _ in range(4)]
+    _kernel().team_rows(np.zeros((1, 7)), np.zeros((1, 4)), one, 1, np.zeros(1, np.intp),
+                        0.01, np.empty((1, 5, 2)), *masks, np.empty((1, 2), bool))
 
 
 def _stacked(observations: Mapping[str, Any]) -> StackedState | None:
