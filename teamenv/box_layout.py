@@ -25,7 +25,7 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -225,3 +225,24 @@ def flatten_observation(obs: Mapping[str, Any]) -> np.ndarray:
         else:
             parts.append(np.asarray(value, dtype=np.float32).ravel())
     return np.concatenate(parts)
+
+
+class StackedState(NamedTuple):
+    """Several agents' ``state`` observations as rows (``ObservationRows.stacked``).
+
+    Attributes:
+        values: (k, width) float32, each agent's flat observation (``StateLayout``).
+        heard_texts: per agent, its ``heard_text`` tuple.
+        play_modes: per agent, its ``play_mode`` (int, its team's view of the mode).
+        spans: where ``ball``, the players, ``play_mode``, ``game`` and ``heard`` start in
+            a row (``self`` starts at 0).
+        team_size: players per team (teammates, then opponents, in the player block).
+        heard_shape: (slots, columns) of ``heard``.
+    """
+
+    values: np.ndarray
+    heard_texts: list
+    play_modes: list
+    spans: tuple
+    team_size: int
+    heard_shape: tuple

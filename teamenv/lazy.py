@@ -12,7 +12,8 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from teamenv.sim.perception import ObservationRows, StackedState
+    from teamenv.box_layout import StackedState
+    from teamenv.sim.perception import ObservationRows
 
 
 class LazyInfos(dict):

@@ -24,10 +24,9 @@ from strategy.perception.worldmodel import (
     _heard_from_team,
     heard_texts,
 )
-from teamenv.box_layout import PLAYER_DIM
+from teamenv.box_layout import PLAYER_DIM, StackedState
 from teamenv.field import FieldSpec
 from teamenv.observation import play_mode_of
-from teamenv.sim.perception import StackedState
 
 _new_model = object.__new__
 

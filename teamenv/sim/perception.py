@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Sequence
-from typing import Any, NamedTuple
+from typing import Any
 
 import numpy as np
 
@@ -12,6 +12,7 @@ from teamenv.box_layout import (
     HEARD_DIM,
     PLAYER_DIM,
     SELF_DIM,
+    StackedState,
     StateLayout,
     play_mode_and_game_block,
 )
@@ -97,27 +98,6 @@ class StatePerception:
             return list(out)
         observations = ObservationRows(self, out, heard_texts)
         return observations if lazy else list(observations)
-
-
-class StackedState(NamedTuple):
-    """Several agents' ``state`` observations as rows (``ObservationRows.stacked``).
-
-    Attributes:
-        values: (k, width) float32, each agent's flat observation (``StateLayout``).
-        heard_texts: per agent, its ``heard_text`` tuple.
-        play_modes: per agent, its ``play_mode`` (int, its team's view of the mode).
-        spans: where ``ball``, the players, ``play_mode``, ``game`` and ``heard`` start in
-            a row (``self`` starts at 0).
-        team_size: players per team (teammates, then opponents, in the player block).
-        heard_shape: (slots, columns) of ``heard``.
-    """
-
-    values: np.ndarray
-    heard_texts: list
-    play_modes: list
-    spans: tuple
-    team_size: int
-    heard_shape: tuple
 
 
 class ObservationRows(Sequence):
