@@ -13,7 +13,8 @@ travel and heading come from the simulation's ground truth when it has stopped (
 2000-2013, and 50 trials of seeds 1000-1049 (the ball's distance at the strike; also the
 kick's start in the gait's phase); the measurements in docs/league.md use seeds 3000-3099
 and, for that start, 3100-3199, which none of that saw. ``--params '{"phase_start": false}'``
-measures a variant of ``LEAGUE_KICK``.
+measures a variant of ``LEAGUE_KICK``; ``--params '{"handover_stop": true}'`` the network's
+approach with a hand-over that stops first (chosen on 4000-4099, measured on 3200-3299).
 
 Printed: trials, how many kicked (reached the spot within 12 s and started the kick), how
 many of those struck (a kick whose strike never began ends after 3 s), mean / median ball

@@ -27,7 +27,8 @@ a beam cancels it). The kick is a kick step of our walker: with our ``WalkerCont
 the controller it continues the controller's own gait, and the walk goes on from there; with
 another controller (e.g. the reference network) the kick's own ``WalkerController`` takes
 over the approach within ``KICK_LATCH_M`` of the ball, once the controller has braked the
-robot to the approach's pace (``teamenv.league.handover``), and the controller starts afresh
+robot to the approach's pace (``teamenv.league.handover``; with ``KickParams.handover_stop``
+once it has stopped and both feet are down), and the controller starts afresh
 (``reset()``) when it walks again. Before the ball was ever seen a kick request walks along the kick direction.
 ``kick=None`` turns kicks off (a kick request is then a walk through the ball, the old
 behaviour, kept for comparison).
@@ -54,7 +55,7 @@ from .errors import LeagueError
 from .falls import is_fallen
 from .getup import GetUpMotion
 from .handover import HandOver
-from .kick import BallTracker, KickMotion, approach_command
+from .kick import LEAGUE_KICK, BallTracker, KickMotion, approach_command
 from .perception import Perception, Polar
 
 #: server mark -> our landmark name, for the left and the right team (teamenv.landmarks)
@@ -155,15 +156,15 @@ class RequestEncoder:
         #: the kick motion (None: kicks are walks through the ball); by default a kick step of
         #: the controller's own gait when it is our walker, else of a walker of its own
         if kick == "default":
-            kick = KickMotion(controller if isinstance(controller, WalkerController)
-                              else WalkerController())
+            kick = KickMotion(controller if isinstance(controller, WalkerController) else
+                              WalkerController(stand_s=HandOver(LEAGUE_KICK.handover_stop).stand_s))
         self.kick = kick
         self._walking: LocomotionController | None = controller   # the walk that stepped last
         #: the get-up motion run when the robot is down (None: lying robots get the request)
         self.get_up = GetUpMotion() if get_up == "default" else get_up
         self.ball = BallTracker()
         #: near the ball the controller brakes before the kick's walker takes over
-        self.handover = HandOver()
+        self.handover = HandOver(stop=kick is not None and kick.params.handover_stop)
         self._motion = None   # the kick or get-up now playing
         self._latch = None    # (power, world heading, seconds left) of the last kick request
         self.profile = get_profile(channel)
@@ -233,7 +234,10 @@ class RequestEncoder:
             else:
                 # near the ball the kick's own walker walks the approach, so the kick goes on
                 # in its gait (the controller, if it is another walk, hands over here)
-                near = self.kick.shares_walker and math.hypot(*ball) <= KICK_LATCH_M
+                begun = self.kick.walker is not self.controller and (
+                    self._walking is self.kick.walker or self.handover.braking)
+                near = self.kick.shares_walker and self.handover.near(
+                    math.hypot(*ball), KICK_LATCH_M, begun)
                 command = approach_command(ball, direction, self.kick.params)
                 if self.ball.age_s > KICK_SIGHTING_MAX_AGE_S:
                     command = SIGHT_AGAIN_COMMAND
@@ -278,7 +282,7 @@ class RequestEncoder:
     def encode(self, request: Request, perception: Perception) -> str:
         parts: list[str] = []
         self.ball.update(perception)
-        self.handover.torso.update(perception)
+        self.handover.update(perception)
         if request.beam is not None:
             # every motor is commanded every cycle (an uncommanded one lets rcsssmj zero
             # every robot's controls, see docs/league.md): a beam comes with the stance

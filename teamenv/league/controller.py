@@ -121,8 +121,11 @@ class WalkerController:
 
     def __init__(self, params=None, feedback: bool = True,
                  velocity_feedforward: bool = False,
-                 envelope: WalkEnvelope | None = LEAGUE_ENVELOPE) -> None:
+                 envelope: WalkEnvelope | None = LEAGUE_ENVELOPE,
+                 stand_s: float | None = None) -> None:
         self.feedback = feedback
+        #: how long a started walk stands before its first step (s; None: the walker's 0.5 s)
+        self.stand_s = stand_s
         #: commands are limited to this (None: walked as given)
         self.envelope = envelope
         #: send the target's own velocity as the PD's dq (else 0: pure damping)
@@ -195,6 +198,8 @@ class WalkerController:
         obs = self._observe(qpos, qvel)
         if not self._started:
             self._walker.reset(tuple(obs["pose"]))
+            if self.stand_s is not None:
+                self._walker.t_step = -self.stand_s
             self._started = True
         for _ in range(self._substeps):
             q_ref = self._walker.update(np.asarray(command, dtype=float),

@@ -76,7 +76,11 @@ class KickParams:
     strike_from, strike_to: the strike's share of the single support; follow_s: from the
     strike's start to the motion's end (the swing lands within it; the command goes to
     follow_vx, which the trials keep walking after the motion); max_wait_s: a kick whose strike has not begun by then ends without one;
-    aim_bias: the ball's measured outward deflection (the body faces this much inwards)."""
+    aim_bias: the ball's measured outward deflection (the body faces this much inwards);
+    approach_vx: the lined-up approach's pace into the spot; phase_start: start one step
+    before the striking swing (``KickMotion.ready``); handover_stop: with another walk
+    controller, it stops and the kick's walker takes over on both feet
+    (``teamenv.league.handover``; measured, not the default: docs/league.md)."""
 
     spot_x: float = 0.43
     foot_y: float = 0.115
@@ -92,6 +96,7 @@ class KickParams:
     aim_bias: float = 0.18
     approach_vx: float = 0.1
     phase_start: bool = True
+    handover_stop: bool = False
 
     def with_(self, **kw: float | bool) -> KickParams:
         return replace(self, **kw)

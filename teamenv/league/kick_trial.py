@@ -21,6 +21,7 @@ from . import effectors
 from .adapter import KICK_LATCH_M
 from .controller import CYCLE_S, LocomotionController, WalkerController, torso_pose
 from .falls import is_fallen
+from .handover import HandOver
 from .kick import (
     LEAGUE_KICK,
     BallTracker,
@@ -94,23 +95,37 @@ def kick_trial(start: tuple[float, float, float], target_yaw: float = 0.0, power
         p = server.cycle({key: walker.stand(p) + effectors.motor("he2", LOOK_DOWN, 0.0, 20.0,
                                                                    0.5)})[key]
     # as RequestEncoder: the kick is a step of our walker's gait; with another walk, the
-    # kick's own walker takes over the approach within KICK_LATCH_M of the ball
-    kick = KickMotion(walker if isinstance(walker, WalkerController) else WalkerController(),
-                      params)
+    # kick's own walker takes over the approach within KICK_LATCH_M of the ball (the trials
+    # walk the approach's pace: at once; with ``params.handover_stop`` once the walk has
+    # stopped there, ``HandOver``)
+    handover = HandOver(stop=params.handover_stop)
+    kick = KickMotion(walker if isinstance(walker, WalkerController)
+                      else WalkerController(stand_s=handover.stand_s), params)
     walking = walker
     walked = 0
     while True:
         rel = tracker.update(p)
+        handover.update(p)
         direction = _wrap(target_yaw - torso_pose(p)[2])
         if is_fallen(p) or walked * CYCLE_S >= (approach_s if approach else 0.0):
             break
         if rel is not None and kick.ready(rel, direction, walking is kick.walker):
             break
         command = approach_command(rel, direction, params) if rel is not None else (0, 0, 0.5)
-        now = kick.walker if rel is not None and math.hypot(*rel) <= KICK_LATCH_M else walker
+        begun = walking is kick.walker or handover.braking
+        now = kick.walker if rel is not None and handover.near(math.hypot(*rel), KICK_LATCH_M,
+                                                               begun) else walker
+        braking = (handover.stop and now is not walking and walking is walker
+                   and not handover.ready)
+        if braking:
+            now, command = walker, handover.brake(command)     # the walk stops first
         if now is not walking:
             now.reset()
+            if now is walker:
+                handover.reset()                        # its walk starts from rest
             walking = now
+        if now is walker and not braking:
+            handover.walked(command)
         p = server.cycle({key: walking.step(command, p)})[key]
         walked += 1
     ball0 = np.array(server.ball_position()[:2])
