@@ -162,7 +162,6 @@ def _bools(x) -> NDArray[np.bool_]:
 
 
 _POWERS = np.array(POWERS)
-_FULL_POWER = np.ones(1)
 _CANDIDATES: dict[tuple[float, float], tuple[NDArray[np.float64], NDArray[np.float64],
                                              NDArray[np.bool_]]] = {}
 

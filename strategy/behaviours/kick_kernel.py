@@ -42,6 +42,22 @@ def _maximum(a, b):
     return a if a >= b else b
 
 
+@numba.njit(inline="always")
+def _earliest(x, y, players, usable, fallen, speed, getup_s):
+    """The earliest any usable player reaches (x, y), seconds (a fallen one ``getup_s``
+    later); inf where none is usable: the NumPy version's minimum over its players of
+    ``hypot / speed + where(fallen, getup_s, 0.0)``."""
+    earliest = np.inf
+    first = True
+    for m in range(players.shape[0]):
+        if usable[m]:
+            t = math.hypot(x - players[m, 0], y - players[m, 1]) / speed
+            t = t + (getup_s if fallen[m] else 0.0)
+            earliest = t if first else _minimum(earliest, t)
+            first = False
+    return earliest
+
+
 @numba.njit(cache=True)
 def candidates(ball, goal, position, mates, mates_usable, mates_fallen, opps, opps_present,
                opps_fallen, directions, powers, shots, is_shot, field, body, cand, z):
@@ -92,27 +108,13 @@ def candidates(ball, goal, position, mates, mates_usable, mates_fallen, opps, op
         lx = _minimum(ex, hl)  # the landing point: a shot is raced for at the goal line
         cand[LAND_X, i] = lx
         on_pitch = (abs(ey) <= hw - 0.5) and (lx > -hl + 1.0) and (ex < hl - 0.5)
-        # _reach_times: the earliest usable teammate / present opponent at the landing
-        ours = np.inf
-        first = True
-        for m in range(mates.shape[0]):
-            if mates_usable[m]:
-                t = math.hypot(lx - mates[m, 0], ey - mates[m, 1]) / speed
-                t = t + (getup_s if mates_fallen[m] else 0.0)
-                ours = t if first else _minimum(ours, t)
-                first = False
-        theirs = np.inf
-        first = True
-        for m in range(opps.shape[0]):
-            if opps_present[m]:
-                t = math.hypot(lx - opps[m, 0], ey - opps[m, 1]) / speed
-                t = t + (getup_s if opps_fallen[m] else 0.0)
-                theirs = t if first else _minimum(theirs, t)
-                first = False
+        # the race: the earliest usable teammate / present opponent at the landing point
+        ours = _earliest(lx, ey, mates, mates_usable, mates_fallen, speed, getup_s)
+        theirs = _earliest(lx, ey, opps, opps_present, opps_fallen, speed, getup_s)
         mine = duration_s + math.hypot(lx - position[0], ey - position[1]) / speed
         ours = _minimum(ours, mine)
         margin = _minimum(_maximum(theirs - ours, -10.0), 10.0)  # np.clip
-        # _lane_blocked: a present opponent within lane_m of the path's first 90 %
+        # the lane: a present opponent within lane_m of the path's first 90 %
         blocked = False
         if any_opp:
             sx, sy = lx - bx, ey - by
