@@ -54,7 +54,7 @@ from numpy.typing import NDArray
 
 import portable_math as pm
 
-_MAX_HALVINGS = 1000.0
+MAX_HALVINGS = 1000.0
 """Recency exponents are capped here: 0.5**1000 ~ 1e-301 is still a normal float, so weights
 never underflow to zero (a division by zero) whatever the half-life."""
 
@@ -204,14 +204,6 @@ def clique_means(times: NDArray[np.float64], xy: NDArray[np.float64],
     return {"n": counts.astype(np.int64), "positions": mean, "newest_s": newest}
 
 
-def _runs(keys: NDArray[np.int64]) -> NDArray[np.intp] | None:
-    """The start of each run of equal ``keys`` when they are sorted (non-empty), else None
-    (a per-key maximum or minimum is then one ``reduceat``, exactly ``ufunc.at``'s)."""
-    if len(keys) == 0 or not bool((keys[1:] >= keys[:-1]).all()):
-        return None
-    return _starts(keys)
-
-
 def _starts(keys: NDArray) -> NDArray[np.intp]:
     """Where each run of equal values of the (non-empty) ``keys`` starts."""
     out = np.flatnonzero(keys[1:] != keys[:-1])
@@ -225,7 +217,7 @@ _ZERO = np.zeros(1, dtype=np.intp)
 def _recency(age: NDArray[np.float64], half_life: float) -> NDArray[np.float64]:
     if math.isinf(half_life):
         return np.ones_like(age)
-    return pm.exp2(-np.minimum(age / half_life, _MAX_HALVINGS))
+    return pm.exp2(-np.minimum(age / half_life, MAX_HALVINGS))
 
 
 NO_SIGHTINGS = {"known": False, "positions": np.nan, "time_s": np.nan, "newest_s": np.nan,
@@ -271,105 +263,18 @@ def cluster_objects(times: NDArray[np.float64], xy: NDArray[np.float64],
         # coordinate of 2 eps per object kept them apart)
         labels[dense] = _dbscan_labels(xy[dense], weights[dense], eps, min_samples,
                                        objects[dense] if n_objects > 1 else None)
-    noise = labels < 0
-    out["outliers"] = np.bincount(objects[noise], minlength=n_objects).astype(np.int64)
-    if noise.all():
-        return out
+    # the best cluster of each object and its fit, in one compiled pass (the same bits as
+    # the NumPy expressions it replaced: ``strategy.perception.cluster_kernel``)
+    from strategy.perception.cluster_kernel import cluster_stats
 
-    runs = _runs(objects)
-    if runs is not None and not noise.any() and int(labels.max()) + 1 == len(runs):
-        # the usual case: each object's sightings are one cluster (clusters never span
-        # objects): it is the best, numbered like its object's run; the same statistics
-        best_object = objects[runs]
-        best_newest = np.maximum.reduceat(times, runs)
-        best_size = np.diff(runs, append=len(times))
-        out["known"][best_object] = True
-        out["n"][best_object] = best_size
-        obj = objects
-        dt = times - best_newest[labels]
-        w = weights * _recency(-dt, half_life)
-        p = xy
-    else:
-        # cluster scores: recency relative to each object's newest sighting
-        last_of_object = np.full(n_objects, -np.inf)
-        if runs is None:
-            np.maximum.at(last_of_object, objects, times)
-        else:  # sorted by object (the callers' order): one reduceat, the same maxima
-            last_of_object[objects[runs]] = np.maximum.reduceat(times, runs)
-        score_w = weights * _recency(last_of_object[objects] - times, half_life)
-        members = ~noise
-        cl = labels[members]
-        n_clusters = int(cl.max()) + 1
-        cluster_score = np.bincount(cl, score_w[members], n_clusters)
-        by_cluster = np.argsort(cl, kind="stable")
-        cl_runs = _starts(cl[by_cluster])
-        cluster_newest = np.maximum.reduceat(times[members][by_cluster], cl_runs)
-        cluster_object = np.zeros(n_clusters, dtype=np.int64)
-        cluster_object[cl] = objects[members]  # one object per cluster (kept apart)
-        cluster_size = np.bincount(cl, minlength=n_clusters)
-        # best per object: largest score, then newest sighting, then lowest label
-        order = np.lexsort((np.arange(n_clusters), -cluster_newest, -cluster_score,
-                            cluster_object))
-        best = order[_starts(cluster_object[order])]
-        best_object = cluster_object[best]
-        best_newest, best_size = cluster_newest[best], cluster_size[best]
-        in_best = np.zeros(n_clusters, dtype=bool)
-        in_best[best] = True
-        out["known"][best_object] = True
-        out["n"][best_object] = best_size
-        clustered = np.bincount(objects[members], minlength=n_objects)
-        out["rejected"] = (clustered - out["n"]).astype(np.int64)
-
-        # statistics of the best clusters; times relative to the cluster's newest member,
-        # and recency relative to it too (a common factor: the means do not depend on it)
-        sel = np.zeros(len(times), dtype=bool)
-        sel[members] = in_best[cl]
-        obj = objects[sel]
-        dt = times[sel] - cluster_newest[labels[sel]]
-        w = weights[sel] * _recency(-dt, half_life)
-        p = xy[sel]
-    total = np.bincount(obj, w, n_objects)[best_object]
-    t_mean = np.bincount(obj, w * dt, n_objects)[best_object] / total
-    mean = np.column_stack([np.bincount(obj, w * p[:, i], n_objects)[best_object]
-                            for i in (0, 1)]) / total[:, None]
-    slot = np.empty(n_objects, dtype=np.int64)
-    slot[best_object] = np.arange(len(best_object))
-    k = slot[obj]
-    dp = p - mean[k]
-    if math.isinf(min_velocity_span):  # no velocity is ever fitted: the spread about the mean
-        spread = np.sqrt(np.bincount(k, w * (dp * dp).sum(axis=1), len(best_object)) / total)
-        velocity = np.full((len(best_object), 2), np.nan)
-        velocity_sigma = np.full(len(best_object), np.nan)
-    else:
-        ddt = dt - t_mean[k]
-        s_tt = np.bincount(k, w * ddt * ddt, len(best_object))
-        s_tp = np.column_stack([np.bincount(k, w * ddt * dp[:, i], len(best_object))
-                                for i in (0, 1)])
-        oldest = np.full(len(best_object), np.inf)
-        k_runs = _runs(k)
-        if k_runs is None:
-            np.minimum.at(oldest, k, dt)
-        else:
-            oldest[k[k_runs]] = np.minimum.reduceat(dt, k_runs)
-        with_velocity = (best_size >= 3) & (-oldest >= min_velocity_span) & (s_tt > 0)
-        velocity = np.full((len(best_object), 2), np.nan)
-        velocity[with_velocity] = s_tp[with_velocity] / s_tt[with_velocity][:, None]
-        residual = dp - np.where(with_velocity[k][:, None], velocity[k] * ddt[:, None], 0.0)
-        spread = np.sqrt(np.bincount(k, w * (residual * residual).sum(axis=1),
-                                     len(best_object)) / total)
-        # weighted least squares: var(slope) = s2 * sum(w^2 dt^2) / s_tt^2, with s2 the residual
-        # variance per axis (2 parameters fitted per axis: n - 2 degrees of freedom)
-        n_members = best_size.astype(np.float64)
-        s2 = spread**2 / 2.0 * n_members / np.maximum(n_members - 2.0, 1.0)
-        s_wwtt = np.bincount(k, w * w * ddt * ddt, len(best_object))
-        velocity_sigma = np.full(len(best_object), np.nan)
-        velocity_sigma[with_velocity] = np.sqrt(
-            s2[with_velocity] * s_wwtt[with_velocity]) / s_tt[with_velocity]
-
-    out["positions"][best_object] = mean
-    out["newest_s"][best_object] = best_newest
-    out["time_s"][best_object] = best_newest + t_mean
-    out["spread"][best_object] = spread
-    out["velocities"][best_object] = velocity
-    out["velocity_sigma"][best_object] = velocity_sigma
+    cluster_stats(np.ascontiguousarray(times, dtype=np.float64),
+                  np.ascontiguousarray(xy, dtype=np.float64).reshape(len(times), 2),
+                  np.ascontiguousarray(weights, dtype=np.float64),
+                  np.ascontiguousarray(objects, dtype=np.int64), labels, float(half_life),
+                  float(min_velocity_span), _TWO, out["known"], out["positions"],
+                  out["time_s"], out["newest_s"], out["spread"], out["n"], out["outliers"],
+                  out["rejected"], out["velocities"], out["velocity_sigma"])
     return out
+
+
+_TWO = np.full(1, 2.0)  # the recency's base, read from an array: see cluster_kernel

@@ -1,0 +1,171 @@
+"""The statistics of ``cluster_objects`` (``strategy.perception.clustering``) after DBSCAN, in
+one compiled pass (numba, imported on first use).
+
+Given every sighting's DBSCAN label, it picks each object's best cluster (largest
+recency-weighted weight, then newest sighting, then lowest label) and fits it: the
+recency-weighted mean position and time, the weighted least-squares velocity and its
+standard error, the spread. The arithmetic is NumPy's, operation for operation, so the bits
+are the same (tested against the NumPy expressions on random windows):
+
+- ``np.bincount(k, w)`` adds each point's weight to its bin in index order: so do these loops;
+- products keep NumPy's association (``w * ddt * ddt`` is ``(w * ddt) * ddt``) and numba
+  contracts no multiply-add into a fused one unless asked to;
+- the recency factor ``0.5 ** age`` is ``pow(2, -age)`` from the C library as
+  ``portable_math.exp2`` computes it, with the base read from an array so that the compiler
+  cannot turn it into ``exp2`` (which rounds differently); ages are never negative here, so
+  ``pow`` neither overflows nor returns NaN;
+- ``np.sqrt`` and division are IEEE 754's, correctly rounded everywhere.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from strategy.perception.clustering import MAX_HALVINGS
+
+
+@numba.njit(inline="always")
+def _recency(age: float, half_life: float, two: np.ndarray) -> float:
+    if math.isinf(half_life):
+        return 1.0
+    return math.pow(two[0], -min(age / half_life, MAX_HALVINGS))
+
+
+@numba.njit(cache=True, error_model="numpy")  # 0 / 0 is NaN, as in NumPy
+def cluster_stats(times: np.ndarray, xy: np.ndarray, weights: np.ndarray, objects: np.ndarray,
+                  labels: np.ndarray, half_life: float, min_velocity_span: float,
+                  two: np.ndarray, known: np.ndarray, positions: np.ndarray,
+                  time_s: np.ndarray, newest_s: np.ndarray, spread: np.ndarray,
+                  n_out: np.ndarray, outliers: np.ndarray, rejected: np.ndarray,
+                  velocities: np.ndarray, velocity_sigma: np.ndarray) -> None:
+    """Fill the per-object outputs (filled beforehand with ``NO_SIGHTINGS``'s values) from
+    the sightings ``times`` (n,), ``xy`` (n, 2), ``weights`` (n,), ``objects`` (n,) and their
+    DBSCAN ``labels`` (n,; -1 noise; a cluster never spans two objects). ``two``: [2.0]."""
+    n = times.size
+    n_objects = known.size
+    n_clusters = 0
+    for i in range(n):
+        if labels[i] < 0:
+            outliers[objects[i]] += 1
+        elif labels[i] + 1 > n_clusters:
+            n_clusters = labels[i] + 1
+    if n_clusters == 0:
+        return
+    # cluster scores: recency relative to each object's newest sighting (noise included)
+    last_of_object = np.full(n_objects, -np.inf)
+    for i in range(n):
+        last_of_object[objects[i]] = max(last_of_object[objects[i]], times[i])
+    score = np.zeros(n_clusters)
+    newest = np.full(n_clusters, -np.inf)
+    size = np.zeros(n_clusters, dtype=np.int64)
+    owner = np.zeros(n_clusters, dtype=np.int64)
+    clustered = np.zeros(n_objects, dtype=np.int64)
+    for i in range(n):
+        c = labels[i]
+        if c < 0:
+            continue
+        score[c] += weights[i] * _recency(last_of_object[objects[i]] - times[i], half_life,
+                                          two)
+        newest[c] = max(newest[c], times[i])
+        size[c] += 1
+        owner[c] = objects[i]
+        clustered[objects[i]] += 1
+    # best per object: largest score, then newest sighting, then lowest label
+    best = np.full(n_objects, -1)
+    for c in range(n_clusters):
+        if size[c] == 0:
+            continue
+        o = owner[c]
+        b = best[o]
+        if b < 0 or score[c] > score[b] or (score[c] == score[b] and newest[c] > newest[b]):
+            best[o] = c
+    for o in range(n_objects):
+        if best[o] >= 0:
+            known[o] = True
+            n_out[o] = size[best[o]]
+            rejected[o] = clustered[o] - size[best[o]]
+    # the best clusters' sums, times relative to the cluster's newest member
+    total = np.zeros(n_objects)
+    t_sum = np.zeros(n_objects)
+    p_sum = np.zeros((n_objects, 2))
+    for i in range(n):
+        c = labels[i]
+        if c < 0 or best[objects[i]] != c:
+            continue
+        o = objects[i]
+        dt = times[i] - newest[c]
+        w = weights[i] * _recency(-dt, half_life, two)
+        total[o] += w
+        t_sum[o] += w * dt
+        p_sum[o, 0] += w * xy[i, 0]
+        p_sum[o, 1] += w * xy[i, 1]
+    t_mean = np.empty(n_objects)
+    mean = np.empty((n_objects, 2))
+    for o in range(n_objects):
+        t_mean[o] = t_sum[o] / total[o]
+        mean[o, 0] = p_sum[o, 0] / total[o]
+        mean[o, 1] = p_sum[o, 1] / total[o]
+    fit = not math.isinf(min_velocity_span)
+    s_tt = np.zeros(n_objects)
+    s_tp = np.zeros((n_objects, 2))
+    s_wwtt = np.zeros(n_objects)
+    oldest = np.full(n_objects, np.inf)
+    square_sum = np.zeros(n_objects)
+    if fit:
+        for i in range(n):
+            c = labels[i]
+            if c < 0 or best[objects[i]] != c:
+                continue
+            o = objects[i]
+            dt = times[i] - newest[c]
+            w = weights[i] * _recency(-dt, half_life, two)
+            ddt = dt - t_mean[o]
+            s_tt[o] += w * ddt * ddt
+            s_tp[o, 0] += w * ddt * (xy[i, 0] - mean[o, 0])
+            s_tp[o, 1] += w * ddt * (xy[i, 1] - mean[o, 1])
+            s_wwtt[o] += w * w * ddt * ddt
+            oldest[o] = min(oldest[o], dt)
+    with_velocity = np.zeros(n_objects, dtype=np.bool_)
+    velocity = np.full((n_objects, 2), np.nan)
+    for o in range(n_objects):
+        c = best[o]
+        if fit and c >= 0 and size[c] >= 3 and -oldest[o] >= min_velocity_span and s_tt[o] > 0:
+            with_velocity[o] = True
+            velocity[o, 0] = s_tp[o, 0] / s_tt[o]
+            velocity[o, 1] = s_tp[o, 1] / s_tt[o]
+    # the spread: about the fitted line, or about the mean without a velocity
+    for i in range(n):
+        c = labels[i]
+        if c < 0 or best[objects[i]] != c:
+            continue
+        o = objects[i]
+        dt = times[i] - newest[c]
+        w = weights[i] * _recency(-dt, half_life, two)
+        r0 = xy[i, 0] - mean[o, 0]
+        r1 = xy[i, 1] - mean[o, 1]
+        if fit:
+            ddt = dt - t_mean[o]
+            r0 = r0 - (velocity[o, 0] * ddt if with_velocity[o] else 0.0)
+            r1 = r1 - (velocity[o, 1] * ddt if with_velocity[o] else 0.0)
+        square_sum[o] += w * (r0 * r0 + r1 * r1)
+    for o in range(n_objects):
+        c = best[o]
+        if c < 0:
+            continue
+        s = np.sqrt(square_sum[o] / total[o])
+        positions[o, 0] = mean[o, 0]
+        positions[o, 1] = mean[o, 1]
+        newest_s[o] = newest[c]
+        time_s[o] = newest[c] + t_mean[o]
+        spread[o] = s
+        if with_velocity[o]:
+            velocities[o, 0] = velocity[o, 0]
+            velocities[o, 1] = velocity[o, 1]
+            # weighted least squares: var(slope) = s2 sum(w^2 dt^2) / s_tt^2, s2 the residual
+            # variance per axis (2 parameters fitted per axis: n - 2 degrees of freedom)
+            members = float(size[c])
+            s2 = s * s / 2.0 * members / max(members - 2.0, 1.0)
+            velocity_sigma[o] = np.sqrt(s2 * s_wwtt[o]) / s_tt[o]
