@@ -25,6 +25,7 @@ import numba
 import numpy as np
 
 from strategy.perception.clustering import MAX_HALVINGS
+from strategy.perception.dbscan import grouped_labels
 
 
 @numba.njit(inline="always")
@@ -91,13 +92,14 @@ def cluster_stats(times: np.ndarray, xy: np.ndarray, weights: np.ndarray, object
     total = np.zeros(n_objects)
     t_sum = np.zeros(n_objects)
     p_sum = np.zeros((n_objects, 2))
+    member_w = np.zeros(n)  # each best-cluster member's weight times its recency
     for i in range(n):
         c = labels[i]
         if c < 0 or best[objects[i]] != c:
             continue
         o = objects[i]
         dt = times[i] - newest[c]
-        w = weights[i] * _recency(-dt, half_life, two)
+        w = member_w[i] = weights[i] * _recency(-dt, half_life, two)
         total[o] += w
         t_sum[o] += w * dt
         p_sum[o, 0] += w * xy[i, 0]
@@ -121,7 +123,7 @@ def cluster_stats(times: np.ndarray, xy: np.ndarray, weights: np.ndarray, object
                 continue
             o = objects[i]
             dt = times[i] - newest[c]
-            w = weights[i] * _recency(-dt, half_life, two)
+            w = member_w[i]
             ddt = dt - t_mean[o]
             s_tt[o] += w * ddt * ddt
             s_tp[o, 0] += w * ddt * (xy[i, 0] - mean[o, 0])
@@ -143,7 +145,7 @@ def cluster_stats(times: np.ndarray, xy: np.ndarray, weights: np.ndarray, object
             continue
         o = objects[i]
         dt = times[i] - newest[c]
-        w = weights[i] * _recency(-dt, half_life, two)
+        w = member_w[i]
         r0 = xy[i, 0] - mean[o, 0]
         r1 = xy[i, 1] - mean[o, 1]
         if fit:
@@ -169,3 +171,29 @@ def cluster_stats(times: np.ndarray, xy: np.ndarray, weights: np.ndarray, object
             members = float(size[c])
             s2 = s * s / 2.0 * members / max(members - 2.0, 1.0)
             velocity_sigma[o] = np.sqrt(s2 * s_wwtt[o]) / s_tt[o]
+
+
+@numba.njit(cache=True)
+def group_labels(points: np.ndarray, weights: np.ndarray, groups: np.ndarray, eps2: float,
+                 min_samples: float) -> np.ndarray:
+    """``dbscan.grouped_labels`` of ``points`` (n, d) with integer-valued ``weights``, each
+    point compared only with the points of its own group (``groups``: (n,) ints, in any
+    order; within a group, the callers' order counts)."""
+    n = points.shape[0]
+    out = np.full(n, -1)
+    if n == 0:
+        return out
+    original = np.arange(n)
+    for k in range(1, n):
+        if groups[k] < groups[k - 1]:
+            original = np.argsort(groups, kind="mergesort")  # stable
+            break
+    g = groups[original]
+    bounds = [0]
+    for k in range(1, n):
+        if g[k] != g[k - 1]:
+            bounds.append(k)
+    bounds.append(n)
+    grouped_labels(np.ascontiguousarray(points[original]), weights[original],
+                   np.array(bounds), eps2, min_samples, original, out)
+    return out

@@ -67,6 +67,13 @@ def _dbscan_class() -> Any:
     return DBSCAN
 
 
+def _integer_valued(weights: NDArray[np.float64]) -> bool:
+    """Whether DBSCAN's weighted counts are exact whatever the order of summation: integer
+    weights (every caller here: unit weights) whose sum is below 2**52."""
+    return bool(len(weights) and np.all(weights == np.floor(weights))
+                and float(weights.sum()) < 2.0**52)
+
+
 def _dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float64], eps: float,
                    min_samples: int, groups: NDArray[np.int64] | None = None
                    ) -> NDArray[np.int64]:
@@ -78,7 +85,7 @@ def _dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float64], ep
     unit weights) the labels come from numpy (``_exact_dbscan_labels``), otherwise from
     sklearn itself (its weighted neighbourhood sums depend on its summation order)."""
     w = np.asarray(weights, dtype=np.float64)
-    if len(w) and bool(np.all(w == np.floor(w))) and float(w.sum()) < 2.0**52:
+    if _integer_valued(w):
         return _exact_dbscan_labels(points, w, eps, min_samples, groups)
     if groups is not None and points.ndim == 2:  # sklearn needs the groups kept apart
         points = np.column_stack([points, np.asarray(groups) * (2.0 * eps)])
@@ -127,26 +134,17 @@ def _exact_dbscan_labels(points: NDArray[np.float64], weights: NDArray[np.float6
     group's pairs (``strategy.perception.dbscan``, imported on first use: numba takes a few
     tenths of a second to import): each point compared only with the points of its own group
     (``groups``: (n,) ints; None: one group)."""
-    from strategy.perception.dbscan import grouped_labels
+    from strategy.perception.cluster_kernel import group_labels  # numba: on first use
 
     pts = np.asarray(points, dtype=np.float64)
     n = len(pts)
-    out = np.full(n, -1, dtype=np.int64)
     if n == 0:
-        return out
+        return np.full(0, -1, dtype=np.int64)
     pts = np.ascontiguousarray(pts.reshape(n, -1))
-    w = np.ascontiguousarray(weights, dtype=np.float64)
-    original = np.arange(n)
-    if groups is None:
-        bounds = np.array([0, n])
-    else:
-        g = np.asarray(groups)
-        if n > 1 and not bool((g[1:] >= g[:-1]).all()):
-            original = np.argsort(g, kind="stable")  # within a group, the callers' order
-            g, pts, w = g[original], pts[original], w[original]
-        bounds = np.append(_starts(g), n)
-    grouped_labels(pts, w, bounds, float(eps) * float(eps), float(min_samples), original, out)
-    return out
+    g = np.zeros(n, dtype=np.int64) if groups is None else \
+        np.ascontiguousarray(groups, dtype=np.int64)
+    return group_labels(pts, np.ascontiguousarray(weights, dtype=np.float64), g,
+                        float(eps) * float(eps), float(min_samples))
 
 
 def _group_pairs(starts: NDArray[np.intp], counts: NDArray[np.intp]
@@ -253,6 +251,10 @@ def cluster_objects(times: NDArray[np.float64], xy: NDArray[np.float64],
         "velocities": np.full((n_objects, 2), np.nan),
         "velocity_sigma": np.full(n_objects, np.nan),
     }
+    times = np.ascontiguousarray(times, dtype=np.float64)
+    xy = np.ascontiguousarray(xy, dtype=np.float64).reshape(len(times), 2)
+    weights = np.ascontiguousarray(weights, dtype=np.float64)
+    objects = np.ascontiguousarray(objects, dtype=np.int64)
     labels = np.full(len(times), -1, dtype=np.int64)
     # an object whose total weight is below min_samples has no core point: all noise
     dense = np.bincount(objects, weights, n_objects)[objects] >= min_samples
@@ -263,14 +265,11 @@ def cluster_objects(times: NDArray[np.float64], xy: NDArray[np.float64],
         # coordinate of 2 eps per object kept them apart)
         labels[dense] = _dbscan_labels(xy[dense], weights[dense], eps, min_samples,
                                        objects[dense] if n_objects > 1 else None)
+    from strategy.perception.cluster_kernel import cluster_stats  # numba: on first use
+
     # the best cluster of each object and its fit, in one compiled pass (the same bits as
     # the NumPy expressions it replaced: ``strategy.perception.cluster_kernel``)
-    from strategy.perception.cluster_kernel import cluster_stats
-
-    cluster_stats(np.ascontiguousarray(times, dtype=np.float64),
-                  np.ascontiguousarray(xy, dtype=np.float64).reshape(len(times), 2),
-                  np.ascontiguousarray(weights, dtype=np.float64),
-                  np.ascontiguousarray(objects, dtype=np.int64), labels, float(half_life),
+    cluster_stats(times, xy, weights, objects, labels, float(half_life),
                   float(min_velocity_span), _TWO, out["known"], out["positions"],
                   out["time_s"], out["newest_s"], out["spread"], out["n"], out["outliers"],
                   out["rejected"], out["velocities"], out["velocity_sigma"])
