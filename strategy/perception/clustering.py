@@ -277,3 +277,11 @@ def cluster_objects(times: NDArray[np.float64], xy: NDArray[np.float64],
 
 
 _TWO = np.full(1, 2.0)  # the recency's base, read from an array: see cluster_kernel
+
+
+def prepare_kernels() -> None:
+    """Compile (or load from numba's cache) the clustering's kernels now, before a match's
+    first cycle runs under its stall watchdog: two objects of two sightings each."""
+    cluster_objects(np.array([0.0, 0.02, 0.0, 0.02]),
+                    np.array([[0.0, 0.0], [0.01, 0.0], [9.0, 9.0], [9.0, 9.01]]), np.ones(4),
+                    np.array([0, 0, 1, 1], dtype=np.int64), 2, 0.5, 1, 0.3, 0.01)

@@ -28,6 +28,7 @@ from numpy.typing import NDArray
 
 from strategy.geometry import BallRoll
 from strategy.perception.ball_belief import BallEstimate
+from strategy.perception.clustering import prepare_kernels as prepare_clustering
 from strategy.perception.filtering import FilterParams
 from strategy.perception.localization import BatchLocalizer, LocalizationParams, for_camera
 from strategy.perception.team_message import TeamReport, decode_team_report, team_message_schema
@@ -104,6 +105,7 @@ class VisionPerceiver:
         self.reports: list[list[TeamReport]] = [[] for _ in range(n)]
         self._decoded: dict[str, TeamReport | None] = {}
         self.cycle = 0
+        prepare_clustering()  # compiled here, not in the first cycle (its stall watchdog)
 
     # -- what the team told us it did -------------------------------------------------------
     def beamed(self, agent_index: int, pose: tuple[float, float, float]) -> None:
