@@ -24,27 +24,27 @@ import math
 import numba
 import numpy as np
 
-from strategy.perception.clustering import MAX_HALVINGS
 from strategy.perception.dbscan import grouped_labels
 
 
 @numba.njit(inline="always")
-def _recency(age: float, half_life: float, two: np.ndarray) -> float:
+def _recency(age: float, half_life: float, base_cap: np.ndarray) -> float:
     if math.isinf(half_life):
         return 1.0
-    return math.pow(two[0], -min(age / half_life, MAX_HALVINGS))
+    return math.pow(base_cap[0], -min(age / half_life, base_cap[1]))
 
 
 @numba.njit(cache=True, error_model="numpy")  # 0 / 0 is NaN, as in NumPy
 def cluster_stats(times: np.ndarray, xy: np.ndarray, weights: np.ndarray, objects: np.ndarray,
                   labels: np.ndarray, half_life: float, min_velocity_span: float,
-                  two: np.ndarray, known: np.ndarray, positions: np.ndarray,
+                  recency: np.ndarray, known: np.ndarray, positions: np.ndarray,
                   time_s: np.ndarray, newest_s: np.ndarray, spread: np.ndarray,
                   n_out: np.ndarray, outliers: np.ndarray, rejected: np.ndarray,
                   velocities: np.ndarray, velocity_sigma: np.ndarray) -> None:
     """Fill the per-object outputs (filled beforehand with ``NO_SIGHTINGS``'s values) from
     the sightings ``times`` (n,), ``xy`` (n, 2), ``weights`` (n,), ``objects`` (n,) and their
-    DBSCAN ``labels`` (n,; -1 noise; a cluster never spans two objects). ``two``: [2.0]."""
+    DBSCAN ``labels`` (n,; -1 noise; a cluster never spans two objects). ``recency``: [2.0, the
+    largest number of halvings of the recency (``clustering.MAX_HALVINGS``)]."""
     n = times.size
     n_objects = known.size
     n_clusters = 0
@@ -69,7 +69,7 @@ def cluster_stats(times: np.ndarray, xy: np.ndarray, weights: np.ndarray, object
         if c < 0:
             continue
         score[c] += weights[i] * _recency(last_of_object[objects[i]] - times[i], half_life,
-                                          two)
+                                          recency)
         newest[c] = max(newest[c], times[i])
         size[c] += 1
         owner[c] = objects[i]
@@ -99,7 +99,7 @@ def cluster_stats(times: np.ndarray, xy: np.ndarray, weights: np.ndarray, object
             continue
         o = objects[i]
         dt = times[i] - newest[c]
-        w = member_w[i] = weights[i] * _recency(-dt, half_life, two)
+        w = member_w[i] = weights[i] * _recency(-dt, half_life, recency)
         total[o] += w
         t_sum[o] += w * dt
         p_sum[o, 0] += w * xy[i, 0]

@@ -270,13 +270,14 @@ def cluster_objects(times: NDArray[np.float64], xy: NDArray[np.float64],
     # the best cluster of each object and its fit, in one compiled pass (the same bits as
     # the NumPy expressions it replaced: ``strategy.perception.cluster_kernel``)
     cluster_stats(times, xy, weights, objects, labels, float(half_life),
-                  float(min_velocity_span), _TWO, out["known"], out["positions"],
+                  float(min_velocity_span), _RECENCY, out["known"], out["positions"],
                   out["time_s"], out["newest_s"], out["spread"], out["n"], out["outliers"],
                   out["rejected"], out["velocities"], out["velocity_sigma"])
     return out
 
 
-_TWO = np.full(1, 2.0)  # the recency's base, read from an array: see cluster_kernel
+# the recency's base and cap, read from an array: see cluster_kernel
+_RECENCY = np.array([2.0, MAX_HALVINGS])
 
 
 def prepare_kernels() -> None:
