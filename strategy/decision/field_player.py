@@ -33,7 +33,12 @@ from strategy.decision.setplays import (
     situation,
     take_set_play,
 )
-from strategy.perception.worldmodel import WorldModel, shared, shared_rows
+from strategy.perception.worldmodel import (
+    INTERCEPT_STEP_S,
+    WorldModel,
+    shared,
+    shared_rows_many,
+)
 from strategy.positioning import PositioningDecision
 from teamenv.config import NO_SECOND_TOUCH  # the set plays the double-touch rule covers
 
@@ -47,6 +52,17 @@ PLAY_BALL, COVER, HOLD = range(len(OPTIONS))
 MOVING_BALL_M_S = 1.0
 """Faster than this the ball is rolling (a kick), not being pushed in a dribble: players are
 chosen, and run, by where they can meet it."""
+
+
+def prepare_reach_kernel() -> None:
+    """Compile (or load from numba's cache) the ball reach's kernel now, before a match's
+    first cycle runs under its stall watchdog: one belief, one teammate, a rolling ball."""
+    from strategy.perception.reach_kernel import reach_rows
+
+    one = np.ones(1)
+    reach_rows(np.zeros((1, 2)), np.array([[1.0, 0.0]]), 2.0 * one, one, np.ones(1, bool),
+               np.ones((1, 1, 2)), np.ones((1, 1), bool), 0.5 * one, 0.5 * one, 1.0,
+               INTERCEPT_STEP_S, np.empty((1, 1)))
 
 
 class FieldPlayerDecisionMaker:
@@ -140,8 +156,7 @@ class FieldPlayerDecisionMaker:
         others = chosen != me
         supporting = np.zeros(len(wms), dtype=bool)
         if c.cover_m > 0 and others.any():
-            d = shared_rows(self.memo, "ball_reach", [wms[i] for i in rows[others].tolist()],
-                            self._ball_reach)
+            d = self.ball_reach_rows([wms[i] for i in rows[others].tolist()])
             if self.goalie is not None:
                 d[:, self.goalie] = np.inf
             d[np.arange(len(d)), chosen[others]] = np.inf
@@ -216,7 +231,11 @@ class FieldPlayerDecisionMaker:
         beaten by the hysteresis margin. One pass over (agents x teammates). Under the
         double-touch rule the taker of our last set play is nobody's ball player until another
         player has reached the ball (``keeps_off_the_ball``)."""
-        d = shared_rows(self.memo, "field_reach", wms, self._field_reach)
+        d = self.ball_reach_rows(wms)
+        if self.goalie is not None:  # the goalie only when nobody else is upright
+            others = np.isfinite(d)
+            others[:, self.goalie] = False
+            d[others.any(axis=1), self.goalie] = np.inf
         if self.double_touch:
             for row, wm in enumerate(wms):
                 taker = self.keeps_off_the_ball(wm)
@@ -246,26 +265,38 @@ class FieldPlayerDecisionMaker:
             return None
         return taker
 
-    def _field_reach(self, wm: WorldModel) -> np.ndarray:
-        d = self.ball_reach(wm)
-        if self.goalie is not None:
-            others = np.isfinite(d)
-            others[self.goalie] = False
-            if others.any():
-                d[self.goalie] = np.inf
-        return d
-
     def ball_reach(self, wm: WorldModel) -> np.ndarray:
         """(N,) how far each teammate must walk to meet the ball (at rest: its distance;
         rolling: to the earliest point it can intercept it); inf for the absent or fallen."""
-        return shared(self.memo, "ball_reach", wm, lambda: self._ball_reach(wm)).copy()
+        return self.ball_reach_rows([wm])[0]
 
-    def _ball_reach(self, wm: WorldModel) -> np.ndarray:
-        d = wm.upright_ball_distances()
-        if math.hypot(*wm.ball_velocity) < MOVING_BALL_M_S:
-            return d
-        times, _ = self.intercepts(wm)
-        return np.where(np.isfinite(d), times * self.skills.run_speed, np.inf)
+    def ball_reach_rows(self, wms: Sequence[WorldModel]) -> np.ndarray:
+        """(len(wms), N) ``ball_reach`` of each of ``wms``, computed once per belief, the
+        beliefs no memo holds in one compiled pass (``strategy.perception.reach_kernel``).
+        A new array."""
+        return shared_rows_many(self.memo, "ball_reach", wms, self._ball_reach_many)
+
+    def _ball_reach_many(self, wms: list[WorldModel]) -> np.ndarray:
+        from strategy.perception.reach_kernel import reach_rows  # numba: on first use
+
+        speeds = [math.hypot(*wm.ball_velocity) for wm in wms]
+        rolling = np.array([v >= MOVING_BALL_M_S for v in speeds])
+        velocities = np.array([wm.ball_velocity for wm in wms], dtype=np.float64)
+        speed = np.array(speeds)
+        directions = np.zeros_like(velocities)
+        directions[rolling] = velocities[rolling] / speed[rolling, None]
+        horizons = np.array([wm.roll.stop_time(v) if moving else 0.0
+                             for wm, v, moving in zip(wms, speeds, rolling.tolist(),
+                                                      strict=True)])
+        out = np.empty((len(wms), len(wms[0].teammates)))
+        reach_rows(np.array([wm.ball for wm in wms], dtype=np.float64), directions, speed,
+                   horizons, rolling,
+                   np.array([wm.teammates for wm in wms], dtype=np.float64),
+                   np.array([wm.teammates_present & ~wm.teammates_fallen for wm in wms]),
+                   np.array([wm.roll.linear_drag for wm in wms], dtype=np.float64),
+                   np.array([wm.roll.rolling_decel for wm in wms], dtype=np.float64),
+                   float(self.skills.run_speed), INTERCEPT_STEP_S, out)
+        return out
 
     def intercepts(self, wm: WorldModel) -> tuple[np.ndarray, np.ndarray]:
         """Every teammate's earliest meeting time and point with the rolling ball

@@ -17,13 +17,16 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from strategy.geometry import BallRoll
-from strategy.memo import memoized
+from strategy.memo import memoized, remember
 from teamenv import PlayMode
 from teamenv.errors import TeamEnvError
 from teamenv.field import FieldSpec
 from teamenv.observation import team_frame
 
 T = TypeVar("T")
+
+INTERCEPT_STEP_S = 0.1
+"""The time step (s) at which ``WorldModel.intercepts`` samples the rolling ball's path."""
 
 BELIEF_RESOLUTION_M = 0.01
 """Positions (m) and the ball's velocity (m/s) are rounded to this: float32 observations
@@ -250,7 +253,8 @@ class WorldModel:
         return rest
 
     def intercepts(self, positions: NDArray[np.float64], speed_m_s: float,
-                   step_s: float = 0.1) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+                   step_s: float = INTERCEPT_STEP_S
+                   ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """For players at ``positions`` (M, 2) walking at ``speed_m_s``: the earliest time
         (s) each can be at the rolling ball, and where. A ball at rest: its distance / speed."""
         speed = math.hypot(self.ball_velocity[0], self.ball_velocity[1])
@@ -322,21 +326,48 @@ def shared(memo: dict | None, name: Hashable, wm: WorldModel, compute: Callable[
     return memoized(memo, (name, wm.belief_key), compute)
 
 
-def shared_rows(memo: dict | None, name: Hashable, wms: Sequence[WorldModel],
-                compute: Callable[[WorldModel], NDArray[Any]]) -> NDArray[Any]:
-    """(n, ...) row i = ``shared(memo, name, wms[i], lambda: compute(wms[i]))``, looked up
-    once per distinct belief among ``wms`` (a team's agents mostly believe the same). A new
-    array: the caller may modify it."""
-    rows: list[NDArray[Any]] = []
+def shared_rows_many(memo: dict | None, name: Hashable, wms: Sequence[WorldModel],
+                     compute_many: Callable[[list[WorldModel]], NDArray[Any]]) -> NDArray[Any]:
+    """``shared_rows``, with the rows of the distinct beliefs that no memo holds computed in
+    one call: ``compute_many(models)`` -> (len(models), ...) rows, row i ``models[i]``'s (a
+    compiled pass over the team's beliefs). A new array: the caller may modify it."""
+    distinct: list[WorldModel] = []
     index: list[int] = []
     seen: dict[bytes, int] = {}
     for wm in wms:
         k = seen.get(wm.belief_key, -1) if wm.belief_key else -1
         if k < 0:
-            k = len(rows)
+            k = len(distinct)
             if wm.belief_key:
                 seen[wm.belief_key] = k
-            rows.append(shared(memo, name, wm, lambda wm=wm: compute(wm)))
+            distinct.append(wm)
         index.append(k)
+    rows: list[Any] = [_held(memo, name, wm) for wm in distinct]
+    todo = [k for k, row in enumerate(rows) if row is _NOT_HELD]
+    if todo:
+        computed = compute_many([distinct[k] for k in todo])
+        for k, row in zip(todo, computed, strict=True):
+            rows[k] = _hold(memo, name, distinct[k], row)
     table = np.array(rows)
     return table if len(rows) == len(index) else table[index]
+
+
+_NOT_HELD = object()
+
+
+def _held(memo: dict | None, name: Hashable, wm: WorldModel) -> Any:
+    """What ``shared`` holds for ``name`` and ``wm``'s belief, else ``_NOT_HELD``."""
+    if not wm.belief_key:
+        return wm.__dict__.get("_facts", {}).get(name, _NOT_HELD)
+    return _NOT_HELD if memo is None else memo.get((name, wm.belief_key), _NOT_HELD)
+
+
+def _hold(memo: dict | None, name: Hashable, wm: WorldModel, value: T) -> T:
+    """Keep ``value`` where ``shared`` looks for ``name`` and ``wm``'s belief."""
+    if not wm.belief_key:
+        wm.__dict__.setdefault("_facts", {})[name] = value  # frozen: bypass __setattr__
+    elif memo is not None:
+        remember(memo, (name, wm.belief_key), value)
+    return value
+
+

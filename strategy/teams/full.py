@@ -15,6 +15,7 @@ from strategy.behaviours.control import team_actions
 from strategy.behaviours.kick_choice import prepare_kernel as prepare_kick_kernel
 from strategy.behaviours.skills import Skills
 from strategy.behaviours.walk_batch import prepare_kernel as prepare_walk_kernel
+from strategy.decision.field_player import prepare_reach_kernel
 from strategy.geometry import BallRoll
 from strategy.perception.perceiver import perceiver_for
 from strategy.positioning.formation.sized import team_formation
@@ -86,6 +87,7 @@ class FullTeam:
         # compiled here, not in a cycle that runs under a match's stall watchdog
         prepare_kick_kernel()
         prepare_walk_kernel()
+        prepare_reach_kernel()
 
     def annotations(self) -> dict[str, dict[str, Any]]:
         """What each agent believed and decided last cycle, for replays with extras

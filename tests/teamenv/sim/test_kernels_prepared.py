@@ -18,15 +18,15 @@ from comms import capacity_kernel
 from locomotion import step_kernel
 from teamenv.sim import kernels
 from strategy.behaviours import kick_kernel, walk_kernel
-from strategy.perception import cluster_kernel, worldmodel_kernel
+from strategy.perception import cluster_kernel, reach_kernel, worldmodel_kernel
 env = teamenv.parallel_env(field={field!r}, team_size={size}, left="full", right="chaser",
                            **{options!r})
 env.reset(seed=3)
 kernels_used = [step_kernel.step_bodies, capacity_kernel.hear_by_capacity,
                 kernels.world_velocities, kernels.fill_heard, kernels.state_rows,
                 kick_kernel.candidates, kick_kernel.choose, walk_kernel.walk_commands,
-                worldmodel_kernel.team_rows, cluster_kernel.cluster_stats,
-                cluster_kernel.group_labels]
+                reach_kernel.reach_rows, worldmodel_kernel.team_rows,
+                cluster_kernel.cluster_stats, cluster_kernel.group_labels]
 before = [len(k.signatures) for k in kernels_used]
 falls = 0
 for cycle in range(400):
@@ -50,7 +50,7 @@ def test_no_kernel_compiles_inside_a_cycle(field, size, options):
     before, after, falls = ast.literal_eval(out.strip().splitlines()[-1])
     assert falls > 0  # the push toppled a body: the kernel ran its fall paths
     assert before[0] == 1  # the body kernel is compiled before the first cycle
-    assert before[5:8] == [1, 1, 1]  # and the left team's kick choice and walks
+    assert before[5:9] == [1, 1, 1, 1]  # the left team's kick choice, walks, ball reach
     if options.get("observation_mode") == "vision":  # its sighting windows' clustering
-        assert before[9:] == [1, 1]
+        assert before[10:] == [1, 1]
     assert after == before
