@@ -29,6 +29,8 @@ class Skills:
         ball_radius: the ball's radius, metres.
         walk_low, walk_high: (3,) range of the walk command (vx, vy m/s, vturn rad/s), the
             body's, as arrays.
+        run_speed: how fast (m/s) the body really walks when navigation asks for its top
+            speed (the body's ``forward_speed``).
     """
 
     field: FieldSpec
@@ -39,6 +41,10 @@ class Skills:
     ball_radius: float = 0.042
     walk_low: NDArray[np.float64] = field(init=False, repr=False, compare=False)
     walk_high: NDArray[np.float64] = field(init=False, repr=False, compare=False)
+    #: how fast (m/s) the body really walks when navigation asks for its top speed: what
+    #: races to the ball and to a kick's landing point are timed with (computed once: body
+    #: and navigation are frozen)
+    run_speed: float = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         # a strategy may choose narrower kicks than its body's, never wider
@@ -46,6 +52,7 @@ class Skills:
                            min(self.kick_max_angle, self.body.kick_max_angle_rad))
         object.__setattr__(self, "walk_low", np.asarray(self.body.walk_low, dtype=np.float64))
         object.__setattr__(self, "walk_high", np.asarray(self.body.walk_high, dtype=np.float64))
+        object.__setattr__(self, "run_speed", self.body.forward_speed(self.navigation.max_speed))
 
     @property
     def kick_reach(self) -> float:
@@ -62,8 +69,3 @@ class Skills:
         """Body centre to ball centre when the body touches the ball, metres."""
         return self.body.body_radius + self.ball_radius
 
-    @property
-    def run_speed(self) -> float:
-        """How fast (m/s) the body really walks when navigation asks for its top speed: what
-        races to the ball and to a kick's landing point are timed with."""
-        return self.body.forward_speed(self.navigation.max_speed)
