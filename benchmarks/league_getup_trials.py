@@ -16,6 +16,7 @@ highest torso and of the most upright torso during the motion and the hold). ``-
     python benchmarks/league_getup_trials.py --side front --json f.json &    # in parallel
     python benchmarks/league_getup_trials.py --side back --json b.json
     python benchmarks/league_getup_trials.py --merge f.json b.json --json all.json
+    python benchmarks/league_getup_trials.py --side front --front-keyframes cand.json
 """
 
 from __future__ import annotations
@@ -27,7 +28,7 @@ import time
 
 import numpy as np
 
-from teamenv.league.getup import GetUpMotion
+from teamenv.league.getup import FRONT_ARMS_RETRY, GetUpMotion
 from teamenv.league.getup_trial import getup_trial
 from teamenv.league.network_walk import NetworkWalkController
 
@@ -44,11 +45,16 @@ def seed_range(text: str) -> list[int]:
         raise SystemExit(f"--seeds: {text!r} is not N or N-M") from None
 
 
-def run(side: str, seeds: list[int], after: str = "network") -> list[dict]:
+def run(side: str, seeds: list[int], after: str = "network",
+        front: list | None = None) -> list[dict]:
+    """One trial per seed, each on a fresh ``LocalServer``; ``front``: the front keyframes
+    (with the arm check's retry, ``getup.FRONT_ARMS_RETRY``; default ``getup.FRONT``)."""
     rows = []
     for seed in seeds:
         walk = NetworkWalkController() if after == "network" else None
-        r = getup_trial(GetUpMotion(attempts=1), side, seed, hold_s=2.0, after=walk)
+        motion = (GetUpMotion(attempts=1) if front is None else
+                  GetUpMotion(front=front, attempts=1, arms_retry=FRONT_ARMS_RETRY))
+        r = getup_trial(motion, side, seed, hold_s=2.0, after=walk)
         rows.append({"side": side, "seed": seed, "lay_on_front": r.lying_on_front,
                      "chose": r.side_detected, "up": r.up, "fell_after": r.fell_after,
                      "success": r.success, "after": after,
@@ -89,6 +95,9 @@ def main() -> None:
                     help="what stands the robot in the 2 s after the motion: the league's "
                          "walk, as in a match (default), or the motion's end pose")
     ap.add_argument("--json", default=None, help="write every trial here")
+    ap.add_argument("--front-keyframes", default=None,
+                    help="the front's keyframes from this JSON file (as "
+                         "league_getup_search.py --out writes) instead of getup.FRONT")
     ap.add_argument("--merge", nargs="+", default=None,
                     help="summarise these --json files (e.g. one per side, run in parallel) "
                          "and write them together to --json")
@@ -105,10 +114,14 @@ def main() -> None:
         return
     seeds = seed_range(args.seeds)
     sides = ("front", "back") if args.side == "both" else (args.side,)
+    front = None
+    if args.front_keyframes:
+        with open(args.front_keyframes, encoding="utf-8") as fh:
+            front = [(dt, f) for dt, f in json.load(fh)["keyframes"]]
     every = []
     for side in sides:
         t0 = time.perf_counter()
-        rows = run(side, seeds, args.after)
+        rows = run(side, seeds, args.after, front)
         every += rows
         print(summary(side, rows), f"({time.perf_counter() - t0:.0f} s wall)", flush=True)
         failed = [r["seed"] for r in rows if not r["success"]]
