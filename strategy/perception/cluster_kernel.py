@@ -88,18 +88,25 @@ def cluster_stats(times: np.ndarray, xy: np.ndarray, weights: np.ndarray, object
             known[o] = True
             n_out[o] = size[best[o]]
             rejected[o] = clustered[o] - size[best[o]]
-    # the best clusters' sums, times relative to the cluster's newest member
+    # the best clusters' members in index order, their times relative to the cluster's
+    # newest member and their weights times their recency; and their sums
+    member = np.empty(n, dtype=np.int64)
+    member_dt = np.empty(n)
+    member_w = np.empty(n)
+    m = 0
+    for i in range(n):
+        c = labels[i]
+        if c >= 0 and best[objects[i]] == c:
+            member[m] = i
+            member_dt[m] = times[i] - newest[c]
+            member_w[m] = weights[i] * _recency(-member_dt[m], half_life, recency)
+            m += 1
     total = np.zeros(n_objects)
     t_sum = np.zeros(n_objects)
     p_sum = np.zeros((n_objects, 2))
-    member_w = np.zeros(n)  # each best-cluster member's weight times its recency
-    for i in range(n):
-        c = labels[i]
-        if c < 0 or best[objects[i]] != c:
-            continue
+    for k in range(m):
+        i, dt, w = member[k], member_dt[k], member_w[k]
         o = objects[i]
-        dt = times[i] - newest[c]
-        w = member_w[i] = weights[i] * _recency(-dt, half_life, recency)
         total[o] += w
         t_sum[o] += w * dt
         p_sum[o, 0] += w * xy[i, 0]
@@ -117,13 +124,9 @@ def cluster_stats(times: np.ndarray, xy: np.ndarray, weights: np.ndarray, object
     oldest = np.full(n_objects, np.inf)
     square_sum = np.zeros(n_objects)
     if fit:
-        for i in range(n):
-            c = labels[i]
-            if c < 0 or best[objects[i]] != c:
-                continue
+        for k in range(m):
+            i, dt, w = member[k], member_dt[k], member_w[k]
             o = objects[i]
-            dt = times[i] - newest[c]
-            w = member_w[i]
             ddt = dt - t_mean[o]
             s_tt[o] += w * ddt * ddt
             s_tp[o, 0] += w * ddt * (xy[i, 0] - mean[o, 0])
@@ -139,13 +142,9 @@ def cluster_stats(times: np.ndarray, xy: np.ndarray, weights: np.ndarray, object
             velocity[o, 0] = s_tp[o, 0] / s_tt[o]
             velocity[o, 1] = s_tp[o, 1] / s_tt[o]
     # the spread: about the fitted line, or about the mean without a velocity
-    for i in range(n):
-        c = labels[i]
-        if c < 0 or best[objects[i]] != c:
-            continue
+    for k in range(m):
+        i, dt, w = member[k], member_dt[k], member_w[k]
         o = objects[i]
-        dt = times[i] - newest[c]
-        w = member_w[i]
         r0 = xy[i, 0] - mean[o, 0]
         r1 = xy[i, 1] - mean[o, 1]
         if fit:

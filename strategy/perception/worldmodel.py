@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from strategy.geometry import BallRoll
-from strategy.memo import memoized, remember
+from strategy.memo import remember
 from teamenv import PlayMode
 from teamenv.errors import TeamEnvError
 from teamenv.field import FieldSpec
@@ -317,20 +317,17 @@ def shared(memo: dict | None, name: Hashable, wm: WorldModel, compute: Callable[
     who believe the same compute a team-wide fact once. A belief without a key (``vision``
     mode: nobody else believes exactly this) keeps its facts to itself, computed once per
     world model. Callers must not modify the result."""
-    if not wm.belief_key:
-        facts = wm.__dict__.setdefault("_facts", {})  # frozen: bypass __setattr__
-        hit = facts.get(name, facts)
-        if hit is facts:
-            hit = facts[name] = compute()
-        return hit
-    return memoized(memo, (name, wm.belief_key), compute)
+    hit = _held(memo, name, wm)
+    return _hold(memo, name, wm, compute()) if hit is _NOT_HELD else hit
 
 
 def shared_rows_many(memo: dict | None, name: Hashable, wms: Sequence[WorldModel],
                      compute_many: Callable[[list[WorldModel]], NDArray[Any]]) -> NDArray[Any]:
-    """``shared_rows``, with the rows of the distinct beliefs that no memo holds computed in
-    one call: ``compute_many(models)`` -> (len(models), ...) rows, row i ``models[i]``'s (a
-    compiled pass over the team's beliefs). A new array: the caller may modify it."""
+    """(n, ...) row i = what ``shared(memo, name, wms[i], ...)`` holds, looked up once per
+    distinct belief among ``wms`` (a team's agents mostly believe the same); the beliefs no
+    memo holds computed in one call, ``compute_many(models)`` -> (len(models), ...) rows, row
+    i ``models[i]``'s (a compiled pass over the team's beliefs). A new array: the caller may
+    modify it."""
     distinct: list[WorldModel] = []
     index: list[int] = []
     seen: dict[bytes, int] = {}
@@ -369,5 +366,3 @@ def _hold(memo: dict | None, name: Hashable, wm: WorldModel, value: T) -> T:
     elif memo is not None:
         remember(memo, (name, wm.belief_key), value)
     return value
-
-
