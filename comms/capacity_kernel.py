@@ -13,8 +13,9 @@ delivery, not with `comms`: importing numba takes a few tenths of a second, comp
 
 import math
 
-import numba
 import numpy as np
+
+from portable_math.jit import numba  # SVML off: the same bits on every machine
 
 _PI = math.pi
 _TWO_PI = 2.0 * math.pi

@@ -13,9 +13,9 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
+from portable_math.jit import numba  # SVML off: the same bits on every machine
 from teamenv.box_layout import BEAM, BEAM_REQUEST, KICK_DIRECTION, KICK_POWER, WALK
 
 _LOW, _HIGH = -1.0 - 1e-6, 1.0 + 1e-6

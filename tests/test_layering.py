@@ -79,6 +79,15 @@ def test_portable_math_imports_only_numpy_and_numba():
         assert outside <= {"numpy", "numba"}, path
 
 
+def test_only_portable_math_jit_imports_numba():
+    # it switches Intel's SVML off before numba reads its config (portable_math/jit.py): a
+    # loop compiled with SVML rounds exp/pow by the CPU, not as the C library does
+    for package in PACKAGES:
+        for path, names in imports_of(package).items():
+            if path != "portable_math/jit.py":
+                assert "numba" not in {top(n) for n in names}, path
+
+
 def test_paramkit_imports_only_the_standard_library():
     for path, names in imports_of("paramkit").items():
         assert {top(n) for n in names} - set(sys.stdlib_module_names) <= {"paramkit"}, path

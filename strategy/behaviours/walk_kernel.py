@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 
-import numba
+from portable_math.jit import numba  # SVML off: the same bits on every machine
 
 # ``params``' entries (``walk_batch._packed`` writes them in this order)
 (K_ATTRACT, K_REPULSE, INFLUENCE_M, MAX_SPEED, SLOW_DOWN_M, ARRIVE_M, TURN_GAIN,

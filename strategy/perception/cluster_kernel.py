@@ -21,9 +21,9 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
+from portable_math.jit import numba  # SVML off: the same bits on every machine
 from strategy.perception.dbscan import grouped_labels
 
 

@@ -19,8 +19,9 @@ unless asked to) decide, so the labels are the same on every CPU.
 
 from __future__ import annotations
 
-import numba
 import numpy as np
+
+from portable_math.jit import numba  # SVML off: the same bits on every machine
 
 
 @numba.njit(inline="always")

@@ -15,8 +15,9 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
+
+from portable_math.jit import numba  # SVML off: the same bits on every machine
 
 _PI = math.pi
 _TWO_PI = 2.0 * math.pi
