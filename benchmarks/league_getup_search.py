@@ -18,7 +18,8 @@ comes up on the edge of balance stands or falls by chance). Candidates are the t
 keyframes (``encode`` / ``decode``: duration and the ``TUNED`` groups of every keyframe after
 the first ``--fixed``, and the last keyframe's duration) plus each searched keyframe's
 ``damping`` (the kd scale, ``getup.DAMPING``, 0.05-2 on a log scale; the last keyframe's too
-with ``--end-damping``).
+with ``--end-damping``). ``--upto K`` searches only the keyframes from ``--fixed`` to K - 1
+(``--fixed 4 --upto 7``: the front's kneel and push-up, the rise kept as it is).
 
 Every ``--check-every`` generations, and at the end, the best candidate is run on LocalServer
 (``getup_trial``, with the same ``--after``) on the same falls: the success count there is
@@ -368,6 +369,9 @@ def main() -> None:
                     help="score each fall this many times, nudged (make_falls; default 1)")
     ap.add_argument("--end-damping", action="store_true",
                     help="search the last keyframe's damping too (default: 1, the walker's kd)")
+    ap.add_argument("--upto", type=int, default=None,
+                    help="search only the keyframes before this index (from --fixed on; the "
+                         "later ones, the last included, kept as they are); default: all")
     args = ap.parse_args()
     import cma
 
@@ -382,20 +386,34 @@ def main() -> None:
         template = list(START_FRONT if args.side == "front" else START_BACK)
     else:
         template = list(getup.FRONT if args.side == "front" else getup.BACK)
+    if args.upto is not None and (not args.fixed < args.upto < len(template) - 1
+                                  or args.end_damping):
+        raise SystemExit("--upto: between --fixed and the last keyframe, no --end-damping")
     server = trial_server()
     plant, falls = make_falls(args.side, seeds, server, args.variants)
     best, n_ok, _ = evaluate(template, args.side, plant, falls, walk, args.hold_s)
     best_frames = template
     print(f"start: {best:.3f}, {n_ok}/{len(falls)} up (fast)", flush=True)
-    x0 = np.concatenate([encode(template, args.fixed),
-                         damping_u(template, args.fixed, args.end_damping)])
-    n_key = len(template) - 1 - args.fixed + (1 if args.end_damping else 0)
+    if args.upto is not None:
+        # the searched part as a template of its own: its keyframes, then the next as its last
+        # (whose duration is left out of the search vector)
+        part = list(template[:args.upto + 1])
+        x0 = np.concatenate([encode(part, args.fixed)[:-1], damping_u(part, args.fixed)])
+        n_key = args.upto - args.fixed
+    else:
+        x0 = np.concatenate([encode(template, args.fixed),
+                             damping_u(template, args.fixed, args.end_damping)])
+        n_key = len(template) - 1 - args.fixed + (1 if args.end_damping else 0)
     es = cma.CMAEvolutionStrategy(np.clip(x0, 0, 1).tolist(), args.sigma,
                                   {"bounds": [0.0, 1.0], "seed": args.seed + 1, "verbose": -9,
                                    "popsize": args.popsize})
 
     def build(x):
         x = np.asarray(x)
+        if args.upto is not None:
+            frames = decode(np.append(x[:-n_key], 0.0), part, args.fixed)
+            frames = with_damping(frames, np.append(x[-n_key:], 0.0), args.fixed)
+            return frames[:-1] + list(template[args.upto:])
         frames = decode(x[:-n_key], template, args.fixed)
         return with_damping(frames, x[-n_key:], args.fixed, args.end_damping)
 
