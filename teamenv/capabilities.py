@@ -80,6 +80,14 @@ class BodyCapabilities:
         achieved = float(np.interp(float(command), xp, fp))
         return min(max(achieved, -self.walk_backward_m_s), self.walk_forward_m_s)
 
+    def side_speed(self, command: float) -> float:
+        """The sideways speed (m/s, + left) the body really walks when asked for ``command``
+        m/s (the profile's tracking table, capped by the envelope). A humanoid's side-step
+        may be one-sided: the league's reference network walks right but not left."""
+        xp, fp = self.tracking_vy
+        achieved = float(np.interp(float(command), xp, fp))
+        return min(max(achieved, -self.walk_side_m_s), self.walk_side_m_s)
+
 
 def body_capabilities(profile: Any) -> BodyCapabilities:
     """The capabilities of locomotion ``profile`` (a ``locomotion.Profile``, or the name or

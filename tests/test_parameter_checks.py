@@ -59,6 +59,7 @@ CASES = [
     (FullTeamConfig(), "say_every", 0, ConfigError),
     (FullTeamConfig(), "nav_k_repulse", 0.5, ConfigError),
     (FullTeamConfig(), "vote", "yes", ConfigError),
+    (FullTeamConfig(), "nav_side_steps", "left", ConfigError),
     (MarkingParams(), "mark_distance_m", NAN, ConfigError),
     (MarkingParams(), "max_markers", -1, ConfigError),
     (FilterParams(), "eps_m", -1.0, ConfigError),

@@ -20,13 +20,14 @@ spot when the direction is far behind it (a real walk cannot go fast sideways or
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from paramkit.checks import check_fields, in_range, non_negative, positive
 from strategy.geometry import to_body, wrap_angle
+from teamenv.capabilities import BodyCapabilities
 from teamenv.errors import ConfigError
 
 
@@ -48,6 +49,11 @@ class NavigationParams:
         min_speed: the slowest approach asked for outside ``arrive_m`` (the walk tracks very
             small commands poorly), m/s.
         search_turn: turning rate while searching for the ball (``vision`` mode), rad/s.
+        side_step_left, side_step_right: whether the walker side-steps to that side within
+            ``omni_m``; False: a target more than 30 degrees off the body's axis on that side
+            is walked to as a far one is (turn towards it, walk forward). A team sets them
+            from its body (``for_body``): a humanoid whose walk barely moves to one side
+            would otherwise stand still, asking for a side-step it does not make.
     """
 
     k_attract: float = field(default=1.0, metadata=positive())
@@ -61,9 +67,29 @@ class NavigationParams:
     omni_m: float = field(default=0.4, metadata=non_negative())
     min_speed: float = field(default=0.35, metadata=non_negative())
     search_turn: float = field(default=0.9, metadata=non_negative())
+    side_step_left: bool = True
+    side_step_right: bool = True
 
     def __post_init__(self) -> None:
         check_fields(self, ConfigError)
+
+    def for_body(self, body: BodyCapabilities) -> NavigationParams:
+        """These gains, side-stepping only to the sides where ``body`` (the locomotion
+        profile's tracking table) walks at least ``MIN_SIDE_STEP_M_S`` when asked for its
+        largest side-step."""
+        left = body.side_speed(float(body.walk_high[1])) >= MIN_SIDE_STEP_M_S
+        right = -body.side_speed(float(body.walk_low[1])) >= MIN_SIDE_STEP_M_S
+        if (left, right) == (self.side_step_left, self.side_step_right):
+            return self
+        return replace(self, side_step_left=left, side_step_right=right)
+
+
+#: a side-step slower than this (m/s) takes over 8 s for the ``omni_m`` zone: the body is
+#: treated as unable to side-step that way (the league network's left: 0.006 m/s)
+MIN_SIDE_STEP_M_S = 0.05
+#: within ``omni_m``, a target on a side the body cannot side-step to is walked to as a far
+#: one once it lies more than this far off the body's axis (sin 30 degrees of the distance)
+SIDE_STEP_SHARE = 0.5
 
 
 def field_vector(position: ArrayLike, target: ArrayLike, obstacles: ArrayLike,
@@ -154,6 +180,9 @@ def approach(position: ArrayLike, heading: float, target: ArrayLike, params: Nav
     v = max(min(top, params.min_speed), top * min(1.0, dist / max(params.slow_down_m, 1e-9)))
     if dist < params.omni_m:
         local_x, local_y = to_body(dx, dy, heading)
+        if (not params.side_step_left and local_y > SIDE_STEP_SHARE * dist) or (
+                not params.side_step_right and -local_y > SIDE_STEP_SHARE * dist):
+            return None, dist, v  # a side-step the body does not make: walk as if far
         turn = 0.0 if face_angle is None else wrap_angle(face_angle - heading)
         return (np.array([v * local_x / dist, v * local_y / dist, params.turn_gain * turn]),
                 dist, v)

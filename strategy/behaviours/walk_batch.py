@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from strategy.behaviours.navigation import NavigationParams, walk_command
+from strategy.behaviours.navigation import SIDE_STEP_SHARE, NavigationParams, walk_command
 
 
 @dataclass(frozen=True)
@@ -105,7 +105,8 @@ def _packed(params: NavigationParams) -> NDArray[np.float64]:
         packed = _PACKED[params] = np.array((
             params.k_attract, params.k_repulse, params.influence_m, params.max_speed,
             params.slow_down_m, params.arrive_m, params.turn_gain, params.turn_in_place_rad,
-            params.omni_m, params.min_speed, REPULSION_EXPONENT))
+            params.omni_m, params.min_speed, REPULSION_EXPONENT, float(params.side_step_left),
+            float(params.side_step_right), SIDE_STEP_SHARE))
         if len(_PACKED) > 64:  # a tuning run's many gain sets: keep the newest
             del _PACKED[next(iter(_PACKED))]
     return packed

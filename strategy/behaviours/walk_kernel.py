@@ -20,7 +20,8 @@ from portable_math.jit import numba  # SVML off: the same bits on every machine
 
 # ``params``' entries (``walk_batch._packed`` writes them in this order)
 (K_ATTRACT, K_REPULSE, INFLUENCE_M, MAX_SPEED, SLOW_DOWN_M, ARRIVE_M, TURN_GAIN,
- TURN_IN_PLACE_RAD, OMNI_M, MIN_SPEED, REPULSION_EXPONENT) = range(11)
+ TURN_IN_PLACE_RAD, OMNI_M, MIN_SPEED, REPULSION_EXPONENT, SIDE_STEP_LEFT, SIDE_STEP_RIGHT,
+ SIDE_STEP_SHARE) = range(14)
 
 _PI = math.pi
 _TWO_PI = 2.0 * math.pi
@@ -134,9 +135,14 @@ def walk_commands(position, heading, target, face, has_face, speed, has_speed, p
         if dist < params[OMNI_M]:
             c, s = math.cos(h), math.sin(h)
             local_x, local_y = c * dx + s * dy, -s * dx + c * dy
-            turn = _wrap(face_angle - h) if facing else 0.0
-            out[i, 0], out[i, 1], out[i, 2] = v * local_x / dist, v * local_y / dist, gain * turn
-            continue
+            # a side-step the body does not make: walk as if far (navigation.approach)
+            if not ((params[SIDE_STEP_LEFT] == 0.0 and local_y > params[SIDE_STEP_SHARE] * dist)
+                    or (params[SIDE_STEP_RIGHT] == 0.0
+                        and -local_y > params[SIDE_STEP_SHARE] * dist)):
+                turn = _wrap(face_angle - h) if facing else 0.0
+                out[i, 0], out[i, 1], out[i, 2] = (v * local_x / dist, v * local_y / dist,
+                                                   gain * turn)
+                continue
         # the potential field (field_vector, direction_to), then walk_along
         straight = math.atan2(dy, dx)
         if dist < 1e-9:

@@ -49,7 +49,7 @@ class FullTeam:
         # behaviour and decision through Skills
         self.skills = Skills(context.field, context.body,
                              kick_max_angle=self.config.kick_max_angle_rad,
-                             navigation=self.config.navigation_params(),
+                             navigation=self.config.navigation_params(context.body),
                              ball_roll=BallRoll(context.ball_linear_drag,
                                                 context.ball_rolling_decel),
                              ball_radius=context.ball_radius)

@@ -14,13 +14,14 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, fields
 
-from paramkit.checks import check_fields, in_range, invalid, non_negative
+from paramkit.checks import check_fields, in_range, invalid, non_negative, one_of
 from strategy.behaviours.navigation import NavigationParams
 from strategy.decision.params import DecisionParams
 from strategy.perception.localization import LocalizationParams
 from strategy.positioning.formation.builtin import builtin_formation_names
 from strategy.positioning.formation.sized import KINDS
 from strategy.positioning.marking import MarkingParams
+from teamenv.capabilities import BodyCapabilities
 from teamenv.config import build_config
 from teamenv.errors import ConfigError
 from teamenv.search_space import Choice, Range, search
@@ -84,7 +85,11 @@ class FullTeamConfig:
             in ``vision`` mode one teammate talks every 2 cycles in uniform-number order).
     Perception (``vision`` mode): localization_particles: particles per agent of the Monte
         Carlo localization.
-    Navigation (seed 001 eq. 6-10): nav_k_repulse (< 0), nav_influence_m, nav_max_speed.
+    Navigation (seed 001 eq. 6-10): nav_k_repulse (< 0), nav_influence_m, nav_max_speed;
+        nav_side_steps: "both" (side-step either way near a target) or "body" (only to the
+        sides the body's locomotion profile walks to, ``NavigationParams.for_body``: the
+        league's network does not step left; measured in league matches: more falls, not
+        the default, see docs/league.md).
     """
 
     formation_attack: str = field(default="attack", metadata=search(Choice(("attack", "defend"))))
@@ -118,6 +123,7 @@ class FullTeamConfig:
                                  | in_range(high=0.0, high_open=True))  # repulsive, eq. 6
     nav_influence_m: float = field(default=1.6, metadata=search(Range(0.5, 4.0)))
     nav_max_speed: float = field(default=1.2, metadata=search(Range(0.6, 1.5)))
+    nav_side_steps: str = field(default="both", metadata=one_of("both", "body"))
     kick_max_angle_rad: float = field(default=3.1, metadata=search(Range(0.5, 3.14))
                                       | in_range(0.0, math.pi, low_open=True))
     kick_possession_weight: float = field(default=2.0, metadata=search(Range(0.2, 20.0, "log")))
@@ -154,6 +160,8 @@ class FullTeamConfig:
         """Monte Carlo localization of ``vision`` mode (particles per agent)."""
         return LocalizationParams(n_particles=self.localization_particles)
 
-    def navigation_params(self) -> NavigationParams:
-        return NavigationParams(k_repulse=self.nav_k_repulse, influence_m=self.nav_influence_m,
-                                max_speed=self.nav_max_speed)
+    def navigation_params(self, body: BodyCapabilities) -> NavigationParams:
+        """The navigation gains, side-stepping as ``nav_side_steps`` says for ``body``."""
+        params = NavigationParams(k_repulse=self.nav_k_repulse,
+                                  influence_m=self.nav_influence_m, max_speed=self.nav_max_speed)
+        return params.for_body(body) if self.nav_side_steps == "body" else params

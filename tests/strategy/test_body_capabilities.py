@@ -67,6 +67,16 @@ def test_the_env_gives_the_team_its_profiles_body(profile):
     assert team.skills.kick_distance_m == load_profile(profile).kick_distance_mean
     assert team.skills.run_speed == pytest.approx(
         body_capabilities(profile).forward_speed(team.config.nav_max_speed))
+    # both side-steps by default; with nav_side_steps="body" only those the walk makes (the
+    # league network's does not step left)
+    navigation = team.skills.navigation
+    assert (navigation.side_step_left, navigation.side_step_right) == (True, True)
+    env.close()
+    env = teamenv.parallel_env(left="full", left_config={"nav_side_steps": "body"}, team_size=2,
+                               field="mj7v7", locomotion_profile=profile)
+    navigation = env.teams["left"].skills.navigation
+    assert (navigation.side_step_left, navigation.side_step_right) == (
+        (False, True) if profile == "t1_league" else (True, True))
     env.close()
 
 

@@ -159,3 +159,62 @@ def test_closed_loop_passes_a_wall_of_three_players():
     reached, closest = unicycle([0, 0], 0.0, np.array([6.0, 0.0]),
                                 [[3.0, -0.6], [3.0, 0.0], [3.0, 0.6]])
     assert reached and closest > 2 * scenes.BODY_RADIUS
+
+
+# -- one-sided side-steps (a body whose walk does not move to one side) --------------------
+def test_the_side_steps_follow_the_bodys_tracking_table():
+    from teamenv.capabilities import body_capabilities
+
+    league = body_capabilities("t1_league")  # the reference network: right, not left
+    assert league.side_speed(league.walk_high[1]) < 0.01 < -league.side_speed(league.walk_low[1])
+    params = P.for_body(league)
+    assert (params.side_step_left, params.side_step_right) == (False, True)
+    for symmetric in ("t1_mj", "nao_simspark"):
+        assert P.for_body(body_capabilities(symmetric)) is P  # unchanged: both sides
+
+
+def test_a_target_on_the_side_the_body_cannot_step_to_is_walked_to_as_a_far_one():
+    no_left = NavigationParams(side_step_left=False)
+    none = np.zeros((0, 2))
+    left, right, ahead = [0.0, 0.3], [0.0, -0.3], [0.3, 0.1]
+    # to the left: no side-step, the far walk's turn towards it (on the spot: 90 degrees)
+    assert walk_command([0, 0], 0.0, left, none, P)[1] > 0.0
+    cmd = walk_command([0, 0], 0.0, left, none, no_left)
+    assert cmd[0] == 0.0 and cmd[1] == 0.0 and cmd[2] > 0.0
+    # to the right, or nearly ahead (less than 30 degrees off the axis): side-steps as before
+    for target in (right, ahead):
+        assert walk_command([0, 0], 0.0, target, none, no_left).tobytes() == \
+            walk_command([0, 0], 0.0, target, none, P).tobytes()
+
+
+def one_sided_walk(params, start, heading, target, face, cycles=1000):
+    """Integrate the command with a unicycle that walks as the league's T1 does (the
+    ``t1_league`` tracking of each axis: no side-step to the left); whether it reaches."""
+    from teamenv.capabilities import body_capabilities
+
+    body = body_capabilities("t1_league")
+    p, h = np.array(start, float), float(heading)
+    for _ in range(cycles):
+        cmd = np.clip(walk_command(p, h, target, np.zeros((0, 2)), params, face=face),
+                      body.walk_low, body.walk_high)
+        vx, vy = body.forward_speed(cmd[0]), body.side_speed(cmd[1])
+        c, s = math.cos(h), math.sin(h)
+        p = p + 0.02 * np.array([c * vx - s * vy, s * vx + c * vy])
+        h += 0.02 * cmd[2]
+        if math.dist(p, target) < params.arrive_m * 2:
+            return True
+    return False
+
+
+@pytest.mark.parametrize("target", [[0.1, 0.3], [0.2, 0.3], [0.0, 0.35]])
+def test_a_body_that_does_not_step_left_reaches_a_spot_on_its_left(target):
+    # asking it to side-step left, it stands (20 s); walking there as a far target, it arrives
+    face = [5.0, target[1]]
+    assert not one_sided_walk(P, [0, 0], 0.0, target, face)
+    assert one_sided_walk(P.for_body(_league()), [0, 0], 0.0, target, face)
+
+
+def _league():
+    from teamenv.capabilities import body_capabilities
+
+    return body_capabilities("t1_league")

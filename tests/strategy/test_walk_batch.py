@@ -8,7 +8,9 @@ from strategy.behaviours.control import ControlRequest, resolve_walks
 from strategy.behaviours.navigation import NavigationParams, walk_command
 from strategy.behaviours.walk_batch import WalkGoal, walk_commands
 
-PARAMS = (NavigationParams(), NavigationParams(influence_m=3.0, omni_m=0.0, arrive_m=0.0))
+PARAMS = (NavigationParams(), NavigationParams(influence_m=3.0, omni_m=0.0, arrive_m=0.0),
+          NavigationParams(side_step_left=False),  # the league network's walk
+          NavigationParams(side_step_right=False, omni_m=0.6))
 
 
 def _goals(rng, params, team=11, grid=0.01):
