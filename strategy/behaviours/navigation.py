@@ -51,9 +51,9 @@ class NavigationParams:
         search_turn: turning rate while searching for the ball (``vision`` mode), rad/s.
         side_step_left, side_step_right: whether the walker side-steps to that side within
             ``omni_m``; False: a target more than 30 degrees off the body's axis on that side
-            is walked to as a far one is (turn towards it, walk forward). A team sets them
-            from its body (``for_body``): a humanoid whose walk barely moves to one side
-            would otherwise stand still, asking for a side-step it does not make.
+            is walked to as a far one is (turn towards it, walk forward). A team may set them
+            from its body (``for_body``; ``full``: ``nav_side_steps="body"``): a humanoid
+            whose walk barely moves to one side stands still when asked for that side-step.
     """
 
     k_attract: float = field(default=1.0, metadata=positive())

@@ -88,8 +88,8 @@ class FullTeamConfig:
     Navigation (seed 001 eq. 6-10): nav_k_repulse (< 0), nav_influence_m, nav_max_speed;
         nav_side_steps: "both" (side-step either way near a target) or "body" (only to the
         sides the body's locomotion profile walks to, ``NavigationParams.for_body``: the
-        league's network does not step left; measured in league matches: more falls, not
-        the default, see docs/league.md).
+        league's network does not step left; in paired league and teamenv matches no
+        measurable gain and falls leaning up, so not the default: docs/league.md).
     """
 
     formation_attack: str = field(default="attack", metadata=search(Choice(("attack", "defend"))))
