@@ -99,7 +99,13 @@ def test_config_accepts_good_overrides_and_is_frozen():
     assert c.kick_goal_weight == 6 and c.communicate is False
     with pytest.raises(dataclasses.FrozenInstanceError):
         c.kick_goal_weight = 1.0  # type: ignore[misc]
-    assert c.navigation_params().k_repulse == c.nav_k_repulse < 0
+    from teamenv.capabilities import body_capabilities
+
+    league = body_capabilities("t1_league")
+    assert c.navigation_params(league).k_repulse == c.nav_k_repulse < 0
+    assert c.navigation_params(league).side_step_left  # "both" by default
+    one_sided = FullTeamConfig(nav_side_steps="body").navigation_params(league)
+    assert (one_sided.side_step_left, one_sided.side_step_right) == (False, True)
     assert FullTeamConfig(marking=False).marking_params() is None
 
 
