@@ -10,7 +10,8 @@ shoot at once and the kick's noise comes from the same draws of the episode's ge
 
 ``keep_away``: the report's numbers are in ``docs/rl_training.md``; the test plays the first
 ``KEEP_AWAY_SEEDS`` evaluation seeds, where the policy lasts the 20 s more often than the
-chaser does (the counts are in the test).
+chaser does (on the first 16, 13 times against 3 in the committed report; the test once
+played 40, 31 against 9, which cost CI about a minute for no sharper check).
 """
 
 from __future__ import annotations
@@ -27,7 +28,7 @@ from teamenv.seeds import evaluation_seeds
 
 POLICIES = Path(__file__).resolve().parents[2] / "examples" / "policies"
 GOALIE_SEEDS = evaluation_seeds(16)
-KEEP_AWAY_SEEDS = evaluation_seeds(40)
+KEEP_AWAY_SEEDS = evaluation_seeds(16)
 
 
 def ends(scenario: str, left: str, left_config: dict | None, seeds) -> list[str]:
