@@ -76,17 +76,20 @@ class BodyCapabilities:
     def forward_speed(self, command: float) -> float:
         """The forward speed (m/s) the body really walks when asked for ``command`` m/s
         (the profile's tracking table, capped by the envelope)."""
-        xp, fp = self.tracking_vx
-        achieved = float(np.interp(float(command), xp, fp))
-        return min(max(achieved, -self.walk_backward_m_s), self.walk_forward_m_s)
+        return _tracked(self.tracking_vx, command, -self.walk_backward_m_s,
+                        self.walk_forward_m_s)
 
     def side_speed(self, command: float) -> float:
         """The sideways speed (m/s, + left) the body really walks when asked for ``command``
         m/s (the profile's tracking table, capped by the envelope). A humanoid's side-step
         may be one-sided: the league's reference network walks right but not left."""
-        xp, fp = self.tracking_vy
-        achieved = float(np.interp(float(command), xp, fp))
-        return min(max(achieved, -self.walk_side_m_s), self.walk_side_m_s)
+        return _tracked(self.tracking_vy, command, -self.walk_side_m_s, self.walk_side_m_s)
+
+
+def _tracked(table: Table, command: float, low: float, high: float) -> float:
+    """What a tracking table's axis achieves for ``command``, within [low, high]."""
+    xp, fp = table
+    return min(max(float(np.interp(float(command), xp, fp)), low), high)
 
 
 def body_capabilities(profile: Any) -> BodyCapabilities:

@@ -165,7 +165,7 @@ def test_closed_loop_passes_a_wall_of_three_players():
 def test_the_side_steps_follow_the_bodys_tracking_table():
     from teamenv.capabilities import body_capabilities
 
-    league = body_capabilities("t1_league")  # the reference network: right, not left
+    league = _league()  # the reference network: right, not left
     assert league.side_speed(league.walk_high[1]) < 0.01 < -league.side_speed(league.walk_low[1])
     params = P.for_body(league)
     assert (params.side_step_left, params.side_step_right) == (False, True)
@@ -190,9 +190,7 @@ def test_a_target_on_the_side_the_body_cannot_step_to_is_walked_to_as_a_far_one(
 def one_sided_walk(params, start, heading, target, face, cycles=1000):
     """Integrate the command with a unicycle that walks as the league's T1 does (the
     ``t1_league`` tracking of each axis: no side-step to the left); whether it reaches."""
-    from teamenv.capabilities import body_capabilities
-
-    body = body_capabilities("t1_league")
+    body = _league()
     p, h = np.array(start, float), float(heading)
     for _ in range(cycles):
         cmd = np.clip(walk_command(p, h, target, np.zeros((0, 2)), params, face=face),
