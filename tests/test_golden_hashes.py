@@ -6,6 +6,10 @@ machine. The golden runs play once per NumPy/OpenBLAS setting, each in its own s
 - ``avx2``: NumPy limited to AVX2 (``NPY_DISABLE_CPU_FEATURES``), OpenBLAS's own choice;
 - ``pinned``: ``tests.golden.PINNED_ENV``, NumPy's SSE baseline and OpenBLAS's Haswell kernels.
 
+On a CPU without any of the features the ``avx2`` setting turns off, that setting is the
+native one (NumPy dispatches to the same kernels), so its hashes are the native run's rather
+than a second identical run (``numpy``'s ``__cpu_features__`` says which features the CPU has).
+
 Re-record with ``python -m tests.golden --write`` only when a rule changes, and say so."""
 
 import json
@@ -35,18 +39,41 @@ def start(setting: dict[str, str]) -> subprocess.Popen:
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
 
+def same_as_native(setting: dict[str, str]) -> bool:
+    """True when ``setting`` changes nothing on this CPU: it only turns off NumPy CPU
+    features (``NPY_DISABLE_CPU_FEATURES``) that this CPU does not have."""
+    from numpy._core._multiarray_umath import __cpu_features__
+
+    if set(setting) != {"NPY_DISABLE_CPU_FEATURES"}:
+        return False
+    return not any(__cpu_features__.get(name, False)
+                   for name in setting["NPY_DISABLE_CPU_FEATURES"].split())
+
+
 @pytest.fixture(scope="module")
 def hashes_by_setting() -> dict[str, dict[str, str]]:
     # two at a time: the runs are single-threaded and CI has two cores
     out = {}
-    names = list(SETTINGS)
+    names = [name for name in SETTINGS if name == "native" or not same_as_native(SETTINGS[name])]
     for batch in (names[:2], names[2:]):
         running = {name: start(SETTINGS[name]) for name in batch}
         for name, proc in running.items():
             stdout, stderr = proc.communicate(timeout=900)
             assert proc.returncode == 0, f"{name}: {stderr[-3000:]}"
             out[name] = json.loads(stdout)
+    for name in SETTINGS:
+        out.setdefault(name, out["native"])  # a setting that is the native one here
     return out
+
+
+def test_a_setting_that_turns_off_a_feature_this_cpu_has_is_not_native():
+    from numpy._core._multiarray_umath import __cpu_features__
+
+    assert same_as_native({"NPY_DISABLE_CPU_FEATURES": "NO_SUCH_FEATURE"})
+    assert not same_as_native(PINNED_ENV)  # it also pins OpenBLAS's kernels
+    present = [name for name, has in __cpu_features__.items() if has]
+    assert present  # every x86-64 CPU has SSE at least
+    assert not same_as_native({"NPY_DISABLE_CPU_FEATURES": present[-1]})
 
 
 @pytest.mark.slow
