@@ -39,9 +39,11 @@ NEAR_M = 1.0
 SEED0 = 41_000
 
 
-def fall_rates(replays: Sequence[Any], near_m: float = NEAR_M) -> dict[str, float]:
+def fall_rates(replays: Sequence[Any], near_m: float = NEAR_M,
+               side: int | None = None) -> dict[str, float]:
     """Falls per robot-minute of play in ``replays`` (league or teamenv), alone and with
-    another robot within ``near_m`` just before (``fall_events``), and the robot-minutes."""
+    another robot within ``near_m`` just before (``fall_events``), and the robot-minutes.
+    ``side``: count only the robots of the left (0) or the right (1) team."""
     from teamenv.league.replay import fall_events
 
     alone = near = 0
@@ -49,9 +51,12 @@ def fall_rates(replays: Sequence[Any], near_m: float = NEAR_M) -> dict[str, floa
     for replay in replays:
         playing = replay.play_mode != 0
         cycle_s = float(replay.metadata["cycle_s"])
-        robot_minutes += float(playing.sum()) * cycle_s / 60.0 * replay.fallen.shape[1]
+        robots = replay.fallen.shape[1]
+        counted = range(robots) if side is None else \
+            range(side * robots // 2, (side + 1) * robots // 2)
+        robot_minutes += float(playing.sum()) * cycle_s / 60.0 * len(counted)
         for fall in fall_events(replay):
-            if playing[fall.row]:
+            if playing[fall.row] and fall.player in counted:
                 if fall.nearest_m < near_m:
                     near += 1
                 else:

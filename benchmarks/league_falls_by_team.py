@@ -2,54 +2,51 @@
 
     python benchmarks/league_falls_by_team.py REPLAY_DIR [--near-m 1.0]
 
-Reads every ``*.npz`` league replay in ``REPLAY_DIR`` (as ``teamenv league-tournament
---replay-dir`` or the fidelity study write them), counts each robot's falls with
-``teamenv.league.replay.fall_events`` (latched falls, the nearest other robot 5 cycles
-before) and prints, per team spec: falls, robot-minutes played, falls per robot-minute and the
-share of falls with another robot within ``--near-m``; then the totals and falls per match.
+Loads every ``*.npz`` league replay in ``REPLAY_DIR`` (as ``teamenv league-tournament
+--replay-dir`` or the fidelity study write them) and counts each team's falls as the fall fit
+and the calibration count them (``league_fall_fit.fall_rates``: latched falls during play,
+alone or with another robot within ``--near-m`` just before, per robot-minute of play). Prints,
+per team spec: falls, robot-minutes of play, falls per robot-minute and the share near another
+robot; then the totals and falls per match.
 """
 
 from __future__ import annotations
 
 import argparse
-import json
-from collections import defaultdict
+import sys
+from collections.abc import Sequence
 from pathlib import Path
-from types import SimpleNamespace
+from typing import Any
 
-import numpy as np
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from league_fall_fit import NEAR_M, fall_rates  # noqa: E402  (the sibling script)
 
-from teamenv.league.replay import fall_events
 
-
-def falls_by_team(replay_dir: Path, near_m: float = 1.0) -> tuple[dict[str, dict], int]:
-    """{team spec: {"falls", "robot_minutes", "near"}} over the replays, and their count."""
-    table: dict[str, dict] = defaultdict(lambda: {"falls": 0, "robot_minutes": 0.0, "near": 0})
-    paths = sorted(Path(replay_dir).glob("*.npz"))
-    for path in paths:
-        with np.load(path) as data:
-            meta = json.loads(bytes(data["metadata"]).decode())
-            replay = SimpleNamespace(fallen=data["fallen"], players=data["players"])
-            n = int(meta["team_size"])
-            minutes = len(data["fallen"]) * float(meta["cycle_s"]) / 60.0
-        sides = (meta["left"], meta["right"])
-        for side in sides:
-            table[side]["robot_minutes"] += n * minutes
-        for event in fall_events(replay):
-            row = table[sides[0] if event.player < n else sides[1]]
-            row["falls"] += 1
-            row["near"] += event.nearest_m < near_m
-    return dict(table), len(paths)
+def falls_by_team(replays: Sequence[Any], near_m: float = NEAR_M) -> dict[str, dict]:
+    """{team spec: {"falls", "near", "robot_minutes"}} over ``replays``, each side counted
+    by ``fall_rates``."""
+    table: dict[str, dict] = {}
+    for replay in replays:
+        for side, team in enumerate((replay.metadata["left"], replay.metadata["right"])):
+            rates = fall_rates([replay], near_m, side=side)
+            row = table.setdefault(str(team), {"falls": 0, "near": 0, "robot_minutes": 0.0})
+            row["falls"] += rates["falls_alone"] + rates["falls_near"]
+            row["near"] += rates["falls_near"]
+            row["robot_minutes"] += rates["robot_minutes"]
+    return table
 
 
 def main() -> None:
+    from teamenv.replay import load_replay
+
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("replay_dir", type=Path)
-    ap.add_argument("--near-m", type=float, default=1.0)
+    ap.add_argument("--near-m", type=float, default=NEAR_M)
     args = ap.parse_args()
-    table, matches = falls_by_team(args.replay_dir, args.near_m)
-    if not matches:
+    replays = [load_replay(path) for path in sorted(args.replay_dir.glob("*.npz"))]
+    if not replays:
         raise SystemExit(f"{args.replay_dir}: no *.npz replay there")
+    table = falls_by_team(replays, args.near_m)
     rows = sorted(table.items(), key=lambda kv: -kv[1]["falls"] / kv[1]["robot_minutes"])
     for team, row in rows:
         rate = row["falls"] / row["robot_minutes"]
@@ -58,8 +55,8 @@ def main() -> None:
               f"{rate:5.2f} per robot-minute  {near:4.0%} near another robot")
     falls = sum(row["falls"] for row in table.values())
     minutes = sum(row["robot_minutes"] for row in table.values())
-    print(f"all: {falls} falls in {matches} matches, {falls / minutes:.3f} per robot-minute, "
-          f"{falls / matches:.1f} per match")
+    print(f"all: {falls} falls in {len(replays)} matches, {falls / minutes:.3f} per "
+          f"robot-minute, {falls / len(replays):.1f} per match")
 
 
 if __name__ == "__main__":

@@ -40,6 +40,9 @@ def test_falls_are_counted_alone_and_near_during_play_per_robot_minute():
     assert rates["falls_alone"] == 1 and rates["falls_near"] == 1
     assert rates["robot_minutes"] == pytest.approx(4.0)            # 4 robots x 60 s
     assert rates["alone_per_robot_minute"] == pytest.approx(0.25)
+    left, right = (fit_module.fall_rates([synthetic_replay()], side=k) for k in (0, 1))
+    assert (left["falls_alone"], left["falls_near"], right["falls_near"]) == (1, 1, 0)
+    assert left["robot_minutes"] == right["robot_minutes"] == pytest.approx(2.0)
     stats = load_benchmark("calibrate_t1_league").fall_statistics([synthetic_replay()],
                                                                    Path("/x/replays"))
     assert (stats["falls"], stats["falls_per_robot_minute"], stats["share_within_1_m"]) == (
